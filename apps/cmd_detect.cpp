@@ -1,0 +1,236 @@
+// `iilfm detect`: one cloud (or the first N clouds of a folder, integrated) through the pipeline.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "commands.hpp"
+#include "iilfm/error.hpp"
+#include "iilfm/io/cloud_io.hpp"
+#include "iilfm/pipeline.hpp"
+#include "iilfm/pose.hpp"
+#include "iilfm/report.hpp"
+#include "iilfm/sensor.hpp"
+
+namespace iilfm::cli {
+
+namespace {
+
+struct DetectArgs {
+  std::string input;
+  std::string sensor;
+  double res_h = 0, res_v = 0;
+  std::vector<std::string> markers;
+  std::string map_path;
+  double marker_size = 0;
+  int frames = 1;
+  std::string threshold;
+  std::string lift = "paper";
+  std::string collision = "mean";
+  double blur = 0;
+  bool gray_input = false;
+  float decimate = 1;
+  int threads = 1;
+  int max_hamming = -1;
+  std::string json_path, image_path;
+  bool quiet = false;
+};
+
+// The cloud files of a folder, sorted by name.
+std::vector<std::string> cloud_files(const std::string& folder) {
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (entry.is_regular_file() && (ext == ".pcd" || ext == ".bin"))
+      files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void append(PointCloud& into, const PointCloud& from) {
+  into.x.insert(into.x.end(), from.x.begin(), from.x.end());
+  into.y.insert(into.y.end(), from.y.begin(), from.y.end());
+  into.z.insert(into.z.end(), from.z.begin(), from.z.end());
+  into.intensity.insert(into.intensity.end(), from.intensity.begin(), from.intensity.end());
+}
+
+io::LoadedCloud load_input(const DetectArgs& args) {
+  if (!std::filesystem::exists(args.input)) throw file_error(args.input, "no such file or folder");
+  if (!std::filesystem::is_directory(args.input)) {
+    if (args.frames != 1)
+      throw file_error(args.input, "--frames needs a folder of cloud files to integrate");
+    return io::read_cloud(args.input);
+  }
+  const std::vector<std::string> files = cloud_files(args.input);
+  if (files.empty()) throw file_error(args.input, "folder holds no .pcd or .bin files");
+  if (static_cast<std::size_t>(args.frames) > files.size())
+    throw file_error(args.input, "--frames " + std::to_string(args.frames) +
+                                     " but the folder holds " + std::to_string(files.size()) +
+                                     " cloud files");
+  io::LoadedCloud total;
+  for (int i = 0; i < args.frames; ++i) {
+    io::LoadedCloud frame = io::read_cloud(files[i]);
+    append(total.cloud, frame.cloud);
+    total.stats.points_in_file += frame.stats.points_in_file;
+    total.stats.valid_points += frame.stats.valid_points;
+    total.stats.non_finite += frame.stats.non_finite;
+    total.stats.zero += frame.stats.zero;
+  }
+  return total;
+}
+
+PipelineOptions pipeline_options(const DetectArgs& args) {
+  PipelineOptions options;
+  std::optional<double> threshold;
+  if (!args.sensor.empty()) {
+    const SensorPreset& preset = find_sensor_preset(args.sensor);
+    options.projection.res_h_deg = preset.res_h_deg;
+    options.projection.res_v_deg = preset.res_v_deg;
+    constexpr double kRad = M_PI / 180.0;
+    options.projection.field_of_view =
+        AngularBounds{preset.fov_h_min_deg * kRad, preset.fov_h_max_deg * kRad,
+                      preset.fov_v_min_deg * kRad, preset.fov_v_max_deg * kRad};
+    threshold = preset.threshold;
+  } else if (args.res_h <= 0 || args.res_v <= 0) {
+    throw InputError(
+        "give --sensor PRESET or both --res-h and --res-v (degrees); `iilfm sensors` "
+        "lists the presets");
+  }
+  if (args.res_h > 0) options.projection.res_h_deg = args.res_h;
+  if (args.res_v > 0) options.projection.res_v_deg = args.res_v;
+
+  if (args.threshold == "otsu") {
+    threshold.reset();
+  } else if (!args.threshold.empty()) {
+    char* end = nullptr;
+    const double t = std::strtod(args.threshold.c_str(), &end);
+    if (end == args.threshold.c_str() || *end != '\0' || !std::isfinite(t))
+      throw InputError("--threshold must be a number or 'otsu', got '" + args.threshold + "'");
+    threshold = t;
+  }
+  options.preprocess.threshold = threshold;
+  options.preprocess.binarize = !args.gray_input;
+  options.preprocess.blur_sigma = args.blur;
+
+  if (args.collision == "nearest")
+    options.projection.collision = CollisionPolicy::kNearest;
+  else if (args.collision != "mean")
+    throw InputError("--collision must be 'mean' or 'nearest', got '" + args.collision + "'");
+  if (args.lift != "paper")
+    throw InputError("--lift '" + args.lift + "' is not available in this version (use 'paper')");
+
+  if (!args.markers.empty()) options.families = args.markers;
+  options.detector.apriltag.decimate = args.decimate;
+  options.detector.apriltag.threads = args.threads;
+  options.detector.apriltag.max_hamming = args.max_hamming;
+  if (args.marker_size > 0) options.marker_size = args.marker_size;
+  if (!args.map_path.empty()) options.map = MarkerMap::load(args.map_path);
+  return options;
+}
+
+void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ostream& out) {
+  const ImageGeometry& g = r.image.geometry;
+  out << "cloud: " << loaded.stats.valid_points << " valid of " << loaded.stats.points_in_file
+      << " points; image " << g.width << "x" << g.height << ", threshold "
+      << r.preprocessed.threshold << "\n";
+  out << r.markers.size() << " marker(s)\n";
+  out << std::fixed << std::setprecision(3);
+  for (const MarkerResult& m : r.markers) {
+    out << "  " << m.detection.family << " id " << m.detection.id << ":";
+    for (const LiftedCorner& c : m.corners) {
+      if (c.valid())
+        out << " (" << c.point.x() << ", " << c.point.y() << ", " << c.point.z() << ")";
+      else
+        out << " (unrecoverable)";
+    }
+    out << "\n";
+  }
+  if (r.pose) {
+    const Vec3 t = r.pose->T_world_lidar.translation();
+    const Vec3 rpy = rpy_deg(r.pose->T_world_lidar.linear());
+    out << "LiDAR pose in world: xyz (" << t.x() << ", " << t.y() << ", " << t.z() << ") m, rpy ("
+        << rpy.x() << ", " << rpy.y() << ", " << rpy.z() << ") deg, rms " << r.pose->rms * 1000
+        << " mm from " << r.pose->markers_used.size() << " marker(s)\n";
+  } else {
+    out << "LiDAR pose: none (" << r.pose_missing_reason << ")\n";
+  }
+  out << "time: " << r.times_ms.total() << " ms (without reading)\n";
+  out.unsetf(std::ios::fixed);
+}
+
+int run_detect(const DetectArgs& args) {
+  PipelineOptions options = pipeline_options(args);
+  Pipeline pipeline(std::move(options));
+
+  const auto start = std::chrono::steady_clock::now();
+  io::LoadedCloud loaded = load_input(args);
+  InputInfo info{
+      args.input, loaded.stats,
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
+  if (loaded.cloud.empty()) {
+    throw file_error(args.input, "no valid points (" + std::to_string(loaded.stats.non_finite) +
+                                     " non-finite, " + std::to_string(loaded.stats.zero) +
+                                     " zero, of " + std::to_string(loaded.stats.points_in_file) +
+                                     ")");
+  }
+
+  const FrameResult& result = pipeline.process(loaded.cloud);
+  if (!args.json_path.empty()) {
+    const std::string text = result_to_json(result, info).dump(2) + "\n";
+    std::ofstream file(args.json_path);
+    if (!file || !(file << text) || !file.flush())
+      throw file_error(args.json_path, "cannot write JSON");
+  }
+  if (!args.image_path.empty()) {
+    bool written = false;
+    try {
+      written = cv::imwrite(args.image_path, draw_overlay(result));
+    } catch (const cv::Exception&) {
+      written = false;
+    }
+    if (!written) throw file_error(args.image_path, "cannot write image (use a .png path)");
+  }
+  if (!args.quiet) print_summary(result, loaded, std::cout);
+  return 0;
+}
+
+}  // namespace
+
+Runner register_detect_command(CLI::App& app) {
+  auto args = std::make_shared<DetectArgs>();
+  CLI::App* cmd = app.add_subcommand("detect",
+                                     "Detect markers in a point cloud and estimate the "
+                                     "LiDAR pose");
+  cmd->add_option("input", args->input, "Cloud file (.pcd, .bin) or folder of them")->required();
+  cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
+  cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");
+  cmd->add_option("--res-v", args->res_v, "Vertical angular resolution, degrees");
+  cmd->add_option("--marker", args->markers,
+                  "Marker family, repeatable (default apriltag:tag36h11)");
+  cmd->add_option("--map", args->map_path, "Marker map YAML: enables the LiDAR pose");
+  cmd->add_option("--marker-size", args->marker_size,
+                  "Edge of the black square (m) of markers not in the map: enables T_lidar_marker");
+  cmd->add_option("--frames", args->frames, "Integrate the first N cloud files of a folder")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threshold", args->threshold,
+                  "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
+  cmd->add_option("--lift", args->lift, "3-D corner method: paper");
+  cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
+  cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");
+  cmd->add_flag("--gray", args->gray_input, "Give detectors the gray image, not the binary one");
+  cmd->add_option("--decimate", args->decimate, "AprilTag quad decimation");
+  cmd->add_option("--threads", args->threads, "AprilTag threads");
+  cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
+  cmd->add_option("--json", args->json_path, "Write the result as JSON");
+  cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
+  return [args] { return run_detect(*args); };
+}
+
+}  // namespace iilfm::cli

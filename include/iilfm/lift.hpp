@@ -1,0 +1,44 @@
+// Lifting detected 2-D keypoints back to 3-D points in the LiDAR frame (paper Sec. III-D).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "iilfm/projection.hpp"
+
+namespace iilfm {
+
+enum class CornerStatus {
+  kObserved,       // the keypoint's pixel holds points: its range along the keypoint's ray
+  kInterpolated,   // unobserved: from a symmetric pair of observed pixels (angle-bisector rule)
+  kUnrecoverable,  // no observed pixel pair to interpolate from; `point` is meaningless
+};
+
+const char* to_string(CornerStatus status);
+
+struct LiftedCorner {
+  Vec3 point = Vec3::Zero();
+  CornerStatus status = CornerStatus::kUnrecoverable;
+  bool valid() const { return status != CornerStatus::kUnrecoverable; }
+};
+
+struct LiftOptions {
+  // How far (pixels) from the keypoint the symmetric pair may lie. The paper's Remark 2 assumes the
+  // pair is still on the marker plane, so this stays small.
+  int max_pair_distance_px = 6;
+};
+
+// The paper's rule. An observed keypoint pixel gives the point at the pixel's range along the ray
+// through the sub-pixel keypoint. An unobserved one is interpolated from the nearest observed pair
+// symmetric about it in the same column (then, if none, in the same row): with the two points p_a,
+// p_b at ranges r_a, r_b, the ray bisecting them meets the segment at
+//   p = (r_b * p_a + r_a * p_b) / (r_a + r_b)         (angle-bisector theorem).
+// The paper prints the two weights swapped (its M1 multiplies p_d by mu / (1 + mu)); this is the
+// geometrically correct form, checked against a plane in the tests.
+LiftedCorner lift_paper(const Vec2& keypoint_px, const ProjectedImage& image,
+                        const LiftOptions& options = {});
+
+// The 3-D point of an observed pixel: its range along the ray through the pixel centre.
+Vec3 pixel_point(const ProjectedImage& image, int col, int row);
+
+}  // namespace iilfm

@@ -1,0 +1,80 @@
+// One frame through every stage: projection, preprocessing, detection, lifting, pose. Pipeline only
+// wires the stages and times them; each stage is usable on its own. One Pipeline per thread.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "iilfm/detector.hpp"
+#include "iilfm/lift.hpp"
+#include "iilfm/marker_map.hpp"
+#include "iilfm/preprocess.hpp"
+#include "iilfm/projection.hpp"
+
+namespace iilfm {
+
+enum class LiftMethod { kPaper };
+
+struct PipelineOptions {
+  ProjectionOptions projection;
+  PreprocessOptions preprocess;
+  std::vector<std::string> families = {"apriltag:tag36h11"};
+  DetectorOptions detector;
+  LiftMethod lift = LiftMethod::kPaper;
+  LiftOptions lift_options;
+  std::optional<double> marker_size;  // edge of the black square for markers not in the map
+  std::optional<MarkerMap> map;       // enables the LiDAR pose
+  std::size_t min_pose_corners = 4;   // fewer lifted, mapped corners: no pose
+};
+
+struct MarkerResult {
+  Detection detection;
+  std::vector<LiftedCorner> corners;        // one per detection keypoint, same order
+  std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
+  double marker_fit_rms = 0;                // residual of that fit, metres
+  bool in_map = false;
+};
+
+struct LidarPose {
+  Isometry3 T_world_lidar = Isometry3::Identity();
+  double rms = 0;                         // corner residual after alignment, metres
+  std::vector<std::string> markers_used;  // "family/id"
+  std::size_t corners_used = 0;
+};
+
+struct StageTimes {
+  double project = 0, preprocess = 0, detect = 0, lift = 0, pose = 0;
+  double total() const { return project + preprocess + detect + lift + pose; }
+};
+
+struct FrameResult {
+  ProjectedImage image;
+  PreprocessedImage preprocessed;
+  std::vector<MarkerResult> markers;
+  std::optional<LidarPose> pose;
+  std::string pose_missing_reason;  // why pose is empty (no map, no mapped marker, too few corners)
+  StageTimes times_ms;
+};
+
+class Pipeline {
+ public:
+  explicit Pipeline(PipelineOptions options);  // InputError for bad options or unknown families
+  ~Pipeline();
+  Pipeline(Pipeline&&) noexcept;
+  Pipeline& operator=(Pipeline&&) noexcept;
+
+  // Runs every stage on `cloud`. The returned reference stays valid until the next call.
+  const FrameResult& process(const PointCloud& cloud);
+
+  const PipelineOptions& options() const { return options_; }
+
+ private:
+  PipelineOptions options_;
+  SphericalProjector projector_;
+  std::vector<std::unique_ptr<MarkerDetector>> detectors_;
+  FrameResult result_;
+};
+
+}  // namespace iilfm

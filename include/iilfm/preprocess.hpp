@@ -1,0 +1,34 @@
+// Preprocessing of the intensity image for visual fiducial detectors (paper Sec. III-C):
+// normalisation to 8-bit gray, hole filling for the detector's image only, naive global threshold,
+// optional Gaussian blur.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <optional>
+
+#include "iilfm/projection.hpp"
+
+namespace iilfm {
+
+struct PreprocessOptions {
+  // Naive threshold in the cloud's intensity units; unset = Otsu's threshold over observed pixels.
+  std::optional<double> threshold;
+  bool binarize = true;    // the paper's mandatory binarisation
+  bool fill_holes = true;  // give unobserved pixels the mean of their observed 8-neighbours
+  int fill_min_neighbours = 3;
+  double blur_sigma = 0;     // Gaussian blur (pixels) after thresholding; 0 = off
+  int unobserved_value = 0;  // gray value of pixels still unobserved after filling
+};
+
+struct PreprocessedImage {
+  cv::Mat gray;                // CV_8U intensity scaled to 0..255 (for display), holes filled
+  cv::Mat detect;              // CV_8U image handed to the detectors (binary unless binarize=false)
+  double threshold = 0;        // threshold applied, in intensity units
+  double intensity_scale = 0;  // intensity mapped to gray 255
+};
+
+// Fills `out`, reusing its buffers.
+void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
+                PreprocessedImage& out);
+
+}  // namespace iilfm

@@ -1,0 +1,94 @@
+// Spherical projection of a point cloud into an intensity image and a range image (paper Sec.
+// III-A).
+//
+// Orientation: the image looks like a picture taken from the LiDAR (world left = image left, up =
+// up), so u = u0 - azimuth / res_h and v = v0 - elevation / res_v. Pixel (col, row) has its centre
+// at the continuous coordinates (u, v) = (col, row), the OpenCV convention.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
+
+#include "iilfm/types.hpp"
+
+namespace iilfm {
+
+// The mapping between directions and continuous image coordinates, and its exact inverse.
+struct ImageGeometry {
+  int width = 0, height = 0;
+  double res_h = 0, res_v = 0;  // radians per pixel
+  double u0 = 0, v0 = 0;        // image coordinates of azimuth 0 / elevation 0
+
+  Vec2 pixel_of_angles(double azimuth, double elevation) const {
+    return Vec2(u0 - azimuth / res_h, v0 - elevation / res_v);
+  }
+  Vec2 pixel_of_point(const Vec3& p) const;
+  double azimuth_of_u(double u) const { return (u0 - u) * res_h; }
+  double elevation_of_v(double v) const { return (v0 - v) * res_v; }
+  Vec3 ray(double u, double v) const;  // unit direction through continuous image coordinates
+  Vec3 ray(const Vec2& uv) const { return ray(uv.x(), uv.y()); }
+  bool contains_pixel(int col, int row) const {
+    return col >= 0 && row >= 0 && col < width && row < height;
+  }
+};
+
+// An angular window in radians (azimuth grows to the left, elevation up).
+struct AngularBounds {
+  double azimuth_min = 0, azimuth_max = 0;
+  double elevation_min = 0, elevation_max = 0;
+};
+
+// How one pixel's value is formed when several points fall into it.
+enum class CollisionPolicy {
+  kMean,     // mean range and intensity: unbiased under range noise (default)
+  kNearest,  // range and intensity of the nearest point (a z-buffer; biased towards the sensor)
+};
+
+struct ProjectionOptions {
+  double res_h_deg = 0.05;
+  double res_v_deg = 0.05;
+  // When set and the cloud lies inside it, the image covers this window, so every frame of a
+  // sensor has the same image size; otherwise the cloud's own angular extent is used.
+  std::optional<AngularBounds> field_of_view;
+  CollisionPolicy collision = CollisionPolicy::kMean;
+  std::size_t max_pixels = 50'000'000;  // refuse absurd images (e.g. a tiny resolution typo)
+};
+
+struct ProjectedImage {
+  ImageGeometry geometry;
+  cv::Mat intensity;  // CV_32F mean (or nearest) intensity; 0 where unobserved
+  cv::Mat range;      // CV_32F range in metres; 0 where unobserved
+  cv::Mat mask;       // CV_8U 255 where observed, 0 where no point fell
+  cv::Mat index;      // CV_32S index of the point nearest to the pixel centre; -1 where unobserved
+  cv::Mat count;      // CV_32S number of points in the pixel
+  std::size_t points_projected = 0;
+
+  bool observed(int col, int row) const { return mask.at<std::uint8_t>(row, col) != 0; }
+};
+
+// The angular extent of a cloud (points at the origin are ignored).
+AngularBounds angular_extent(const PointCloud& cloud);
+
+// Image geometry covering `bounds` at the given resolution.
+ImageGeometry geometry_for_bounds(const AngularBounds& bounds, double res_h, double res_v);
+
+// Projects clouds, reusing its buffers from frame to frame.
+class SphericalProjector {
+ public:
+  explicit SphericalProjector(ProjectionOptions options);
+
+  // Fills `out` (buffers are reused when sizes match). InputError if the image would be too large.
+  void project(const PointCloud& cloud, ProjectedImage& out);
+
+  const ProjectionOptions& options() const { return options_; }
+
+ private:
+  ProjectionOptions options_;
+  std::vector<float> azimuth_, elevation_, range_;
+  cv::Mat best_offset_;  // CV_32F squared distance of the indexed point to its pixel centre
+};
+
+}  // namespace iilfm

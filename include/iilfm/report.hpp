@@ -1,0 +1,26 @@
+// What a frame's result looks like to users: the JSON of the CLI contract (ARCHITECTURE.md) and an
+// overlay picture of the intensity image with the detections drawn on it.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "iilfm/pipeline.hpp"
+
+namespace iilfm {
+
+struct InputInfo {
+  std::string path;
+  CloudStats stats;
+  double read_ms = 0;
+};
+
+nlohmann::json result_to_json(const FrameResult& result, const InputInfo& input);
+
+// BGR picture: the gray intensity image (unobserved pixels dark green), scaled up so pixels are
+// square in angle and small images stay readable, each detection's outline, numbered corners
+// (1 = top-left ... 4 = bottom-left) and id.
+cv::Mat draw_overlay(const FrameResult& result);
+
+}  // namespace iilfm

@@ -1,0 +1,96 @@
+#include "apriltag_detector.hpp"
+
+#include <apriltag/apriltag.h>
+
+#include <algorithm>
+
+#include "apriltag_families.hpp"
+#include "iilfm/error.hpp"
+
+namespace iilfm::detail {
+
+namespace {
+
+class AprilTagDetector final : public MarkerDetector {
+ public:
+  AprilTagDetector(const AprilTagFamilyEntry& entry, const AprilTagOptions& options)
+      : entry_(entry), name_(std::string("apriltag:") + entry.name) {
+    family_ = entry_.create();
+    detector_ = apriltag_detector_create();
+    detector_->quad_decimate = options.decimate;
+    detector_->quad_sigma = options.sigma;
+    detector_->nthreads = std::max(1, options.threads);
+    detector_->refine_edges = options.refine_edges;
+    detector_->decode_sharpening = options.decode_sharpening;
+    const int bits = options.max_hamming >= 0
+                         ? options.max_hamming
+                         : default_max_hamming(static_cast<int>(family_->h), family_->ncodes);
+    apriltag_detector_add_family_bits(detector_, family_, bits);
+  }
+  ~AprilTagDetector() override {
+    apriltag_detector_destroy(detector_);
+    entry_.destroy(family_);
+  }
+  AprilTagDetector(const AprilTagDetector&) = delete;
+  AprilTagDetector& operator=(const AprilTagDetector&) = delete;
+
+  const std::string& family() const override { return name_; }
+
+  void detect(const cv::Mat& gray, std::vector<Detection>& out) override {
+    CV_Assert(gray.type() == CV_8UC1);
+    image_u8_t image{gray.cols, gray.rows, static_cast<std::int32_t>(gray.step[0]),
+                     const_cast<std::uint8_t*>(gray.ptr<std::uint8_t>())};
+    zarray_t* found = apriltag_detector_detect(detector_, &image);
+    for (int i = 0; i < zarray_size(found); ++i) {
+      apriltag_detection_t* d = nullptr;
+      zarray_get(found, i, &d);
+      Detection det;
+      det.family = name_;
+      det.id = d->id;
+      det.hamming = d->hamming;
+      det.decision_margin = d->decision_margin;
+      // libapriltag gives p[0..3] = bottom-left, bottom-right, top-right, top-left of the printed
+      // tag, with pixel centres at i + 0.5; reorder to TL, TR, BR, BL and shift to centres at i.
+      for (int k = 3; k >= 0; --k) det.corners_px.emplace_back(d->p[k][0] - 0.5, d->p[k][1] - 0.5);
+      out.push_back(std::move(det));
+    }
+    apriltag_detections_destroy(found);
+  }
+
+ private:
+  const AprilTagFamilyEntry& entry_;
+  std::string name_;
+  apriltag_family_t* family_ = nullptr;
+  apriltag_detector_t* detector_ = nullptr;
+};
+
+}  // namespace
+
+int default_max_hamming(int family_min_distance, std::uint32_t family_codes) {
+  // Correcting 2 bits in families of tens of thousands of codes builds a lookup table that takes
+  // seconds and hundreds of MB at start-up; 1 bit keeps them instant.
+  const int cap = family_codes > 5000 ? 1 : 2;
+  return std::clamp((family_min_distance - 1) / 2 - 2, 0, cap);
+}
+
+std::unique_ptr<MarkerDetector> make_apriltag_detector(const std::string& tag_family,
+                                                       const AprilTagOptions& options) {
+  const AprilTagFamilyEntry* entry = find_apriltag_family(tag_family);
+  if (!entry) {
+    throw InputError("unknown AprilTag family 'apriltag:" + tag_family +
+                     "' (libapriltag ships tag16h5, tag25h9, tag36h10, tag36h11, tagCircle21h7, "
+                     "tagCircle49h12, tagCustom48h12, tagStandard41h12, tagStandard52h13)");
+  }
+  return std::make_unique<AprilTagDetector>(*entry, options);
+}
+
+FamilyLayout apriltag_layout(const std::string& tag_family) {
+  const AprilTagFamilyEntry* entry = find_apriltag_family(tag_family);
+  if (!entry) throw InputError("unknown AprilTag family 'apriltag:" + tag_family + "'");
+  apriltag_family_t* family = entry->create();
+  FamilyLayout layout{family->width_at_border, family->total_width};
+  entry->destroy(family);
+  return layout;
+}
+
+}  // namespace iilfm::detail

@@ -1,0 +1,52 @@
+// Maps "backend:family" strings to back-ends. A new back-end adds one branch here.
+#include <string>
+
+#include "apriltag_detector.hpp"
+#include "apriltag_families.hpp"
+#include "iilfm/detector.hpp"
+#include "iilfm/error.hpp"
+
+namespace iilfm {
+
+namespace {
+
+struct FamilyName {
+  std::string backend, family;
+};
+
+FamilyName split_family(const std::string& name) {
+  const auto colon = name.find(':');
+  if (colon == std::string::npos) {
+    const std::string hint = detail::find_apriltag_family(name)
+                                 ? " (did you mean 'apriltag:" + name + "'?)"
+                                 : " (expected BACKEND:FAMILY, e.g. apriltag:tag36h11)";
+    throw InputError("unknown marker family '" + name + "'" + hint);
+  }
+  return {name.substr(0, colon), name.substr(colon + 1)};
+}
+
+}  // namespace
+
+std::unique_ptr<MarkerDetector> make_detector(const std::string& family,
+                                              const DetectorOptions& options) {
+  const FamilyName name = split_family(family);
+  if (name.backend == "apriltag")
+    return detail::make_apriltag_detector(name.family, options.apriltag);
+  throw InputError("unknown marker back-end '" + name.backend + "' in '" + family +
+                   "' (available: apriltag)");
+}
+
+std::vector<std::string> known_families() {
+  std::vector<std::string> names;
+  for (const auto& entry : detail::apriltag_families())
+    names.push_back(std::string("apriltag:") + entry.name);
+  return names;
+}
+
+FamilyLayout family_layout(const std::string& family) {
+  const FamilyName name = split_family(family);
+  if (name.backend == "apriltag") return detail::apriltag_layout(name.family);
+  throw InputError("unknown marker back-end '" + name.backend + "' in '" + family + "'");
+}
+
+}  // namespace iilfm

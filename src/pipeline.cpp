@@ -1,0 +1,127 @@
+#include "iilfm/pipeline.hpp"
+
+#include <chrono>
+
+#include "iilfm/error.hpp"
+#include "iilfm/pose.hpp"
+
+namespace iilfm {
+
+namespace {
+
+class Stopwatch {
+ public:
+  double lap_ms() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - start_).count();
+    start_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Pose of a square marker from its lifted corners, when its size is known.
+void estimate_marker_pose(MarkerResult& marker, double size) {
+  const auto model = marker_frame_corners(size);
+  std::vector<Vec3> source, target;
+  for (std::size_t k = 0; k < marker.corners.size() && k < model.size(); ++k) {
+    if (!marker.corners[k].valid()) continue;
+    source.push_back(model[k]);
+    target.push_back(marker.corners[k].point);
+  }
+  const RigidFit fit = fit_rigid(source, target);
+  if (!fit.ok) return;
+  marker.T_lidar_marker = fit.T;
+  marker.marker_fit_rms = fit.rms;
+}
+
+}  // namespace
+
+Pipeline::Pipeline(PipelineOptions options)
+    : options_(std::move(options)), projector_(options_.projection) {
+  if (options_.families.empty()) throw InputError("no marker family given (use --marker)");
+  if (options_.marker_size && !(*options_.marker_size > 0))
+    throw InputError("--marker-size must be positive (metres)");
+  for (const std::string& family : options_.families)
+    detectors_.push_back(make_detector(family, options_.detector));
+}
+
+Pipeline::~Pipeline() = default;
+Pipeline::Pipeline(Pipeline&&) noexcept = default;
+Pipeline& Pipeline::operator=(Pipeline&&) noexcept = default;
+
+const FrameResult& Pipeline::process(const PointCloud& cloud) {
+  FrameResult& r = result_;
+  r.markers.clear();
+  r.pose.reset();
+  r.pose_missing_reason.clear();
+  Stopwatch watch;
+
+  projector_.project(cloud, r.image);
+  r.times_ms.project = watch.lap_ms();
+
+  preprocess(r.image, options_.preprocess, r.preprocessed);
+  r.times_ms.preprocess = watch.lap_ms();
+
+  std::vector<Detection> detections;
+  for (auto& detector : detectors_) detector->detect(r.preprocessed.detect, detections);
+  r.times_ms.detect = watch.lap_ms();
+
+  for (Detection& detection : detections) {
+    MarkerResult marker;
+    for (const Vec2& px : detection.corners_px)
+      marker.corners.push_back(lift_paper(px, r.image, options_.lift_options));
+    marker.detection = std::move(detection);
+    const MapMarker* mapped =
+        options_.map ? options_.map->find(marker.detection.family, marker.detection.id) : nullptr;
+    marker.in_map = mapped != nullptr;
+    const std::optional<double> size =
+        mapped ? std::optional<double>(mapped->size) : options_.marker_size;
+    if (size) estimate_marker_pose(marker, *size);
+    r.markers.push_back(std::move(marker));
+  }
+  r.times_ms.lift = watch.lap_ms();
+
+  if (!options_.map) {
+    r.pose_missing_reason = "no marker map given";
+  } else {
+    std::vector<Vec3> world, lidar;
+    LidarPose pose;
+    for (const MarkerResult& marker : r.markers) {
+      if (!marker.in_map) continue;
+      const MapMarker* mapped = options_.map->find(marker.detection.family, marker.detection.id);
+      std::size_t used = 0;
+      for (std::size_t k = 0; k < marker.corners.size() && k < 4; ++k) {
+        if (!marker.corners[k].valid()) continue;
+        world.push_back(mapped->corners_world[k]);
+        lidar.push_back(marker.corners[k].point);
+        ++used;
+      }
+      if (used > 0) pose.markers_used.push_back(mapped->key());
+    }
+    if (pose.markers_used.empty()) {
+      r.pose_missing_reason = "no mapped marker detected";
+    } else if (world.size() < std::max<std::size_t>(3, options_.min_pose_corners)) {
+      r.pose_missing_reason =
+          "only " + std::to_string(world.size()) + " mapped corners could be lifted to 3-D (need " +
+          std::to_string(std::max<std::size_t>(3, options_.min_pose_corners)) + ")";
+    } else {
+      // Paper Eq. 6: the transform taking world corners onto LiDAR-frame corners is T_lidar_world.
+      const RigidFit fit = fit_rigid(world, lidar);
+      if (!fit.ok) {
+        r.pose_missing_reason = "mapped corners are collinear";
+      } else {
+        pose.T_world_lidar = fit.T.inverse();
+        pose.rms = fit.rms;
+        pose.corners_used = world.size();
+        r.pose = pose;
+      }
+    }
+  }
+  r.times_ms.pose = watch.lap_ms();
+  return r;
+}
+
+}  // namespace iilfm

@@ -1,0 +1,127 @@
+#include "iilfm/preprocess.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+namespace iilfm {
+
+namespace {
+
+// Mean of the observed 8-neighbours for unobserved pixels with enough of them. Only the detector
+// sees these values: no 3-D point is ever made from a filled pixel.
+void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours, cv::Mat& filled,
+                cv::Mat& filled_mask) {
+  intensity.copyTo(filled);
+  mask.copyTo(filled_mask);
+  const int h = intensity.rows, w = intensity.cols;
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      if (mask.at<std::uint8_t>(r, c)) continue;
+      float sum = 0;
+      int n = 0;
+      for (int dr = -1; dr <= 1; ++dr) {
+        const int rr = r + dr;
+        if (rr < 0 || rr >= h) continue;
+        const std::uint8_t* m = mask.ptr<std::uint8_t>(rr);
+        const float* v = intensity.ptr<float>(rr);
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int cc = c + dc;
+          if (cc < 0 || cc >= w || !m[cc]) continue;
+          sum += v[cc];
+          ++n;
+        }
+      }
+      if (n >= min_neighbours) {
+        filled.at<float>(r, c) = sum / static_cast<float>(n);
+        filled_mask.at<std::uint8_t>(r, c) = 255;
+      }
+    }
+  }
+}
+
+// Intensity that maps to gray 255: the 99th percentile of observed values, so a few
+// retro-reflectors do not darken everything else.
+double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
+  std::vector<float> values;
+  values.reserve(static_cast<std::size_t>(cv::countNonZero(mask)));
+  for (int r = 0; r < intensity.rows; ++r) {
+    const float* v = intensity.ptr<float>(r);
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
+    for (int c = 0; c < intensity.cols; ++c)
+      if (m[c]) values.push_back(v[c]);
+  }
+  if (values.empty()) return 1.0;
+  const std::size_t k = (values.size() * 99) / 100;
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return std::max(1e-6, static_cast<double>(values[k]));
+}
+
+// Otsu's threshold over the observed gray values, returned in intensity units.
+double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask, double scale) {
+  int histogram[256] = {};
+  int total = 0;
+  for (int r = 0; r < gray.rows; ++r) {
+    const std::uint8_t* g = gray.ptr<std::uint8_t>(r);
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
+    for (int c = 0; c < gray.cols; ++c)
+      if (m[c]) {
+        ++histogram[g[c]];
+        ++total;
+      }
+  }
+  double sum_all = 0;
+  for (int i = 0; i < 256; ++i) sum_all += i * static_cast<double>(histogram[i]);
+  double best = -1, best_t = 127.5, sum_below = 0;
+  int below = 0;
+  for (int t = 0; t < 255; ++t) {
+    below += histogram[t];
+    sum_below += t * static_cast<double>(histogram[t]);
+    const int above = total - below;
+    if (below == 0 || above == 0) continue;
+    const double mean_below = sum_below / below, mean_above = (sum_all - sum_below) / above;
+    const double between =
+        static_cast<double>(below) * above * std::pow(mean_below - mean_above, 2);
+    if (between > best) {
+      best = between;
+      best_t = t + 0.5;
+    }
+  }
+  return best_t * scale / 255.0;
+}
+
+}  // namespace
+
+void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
+                PreprocessedImage& out) {
+  cv::Mat filled, filled_mask;
+  if (options.fill_holes) {
+    fill_holes(image.intensity, image.mask, options.fill_min_neighbours, filled, filled_mask);
+  } else {
+    filled = image.intensity;
+    filled_mask = image.mask;
+  }
+
+  out.intensity_scale = robust_max(image.intensity, image.mask);
+  filled.convertTo(out.gray, CV_8U, 255.0 / out.intensity_scale);
+  out.gray.setTo(options.unobserved_value, filled_mask == 0);
+
+  out.threshold = options.threshold ? *options.threshold
+                                    : otsu_threshold(out.gray, filled_mask, out.intensity_scale);
+  if (options.binarize) {
+    cv::Mat above = filled > out.threshold;  // 255 where brighter than the threshold
+    out.detect.create(image.intensity.size(), CV_8U);
+    out.detect.setTo(0);
+    out.detect.setTo(255, above & filled_mask);
+    out.detect.setTo(options.unobserved_value, filled_mask == 0);
+  } else {
+    out.gray.copyTo(out.detect);
+  }
+  if (options.blur_sigma > 0) {
+    cv::GaussianBlur(out.detect, out.detect, cv::Size(0, 0), options.blur_sigma);
+  }
+}
+
+}  // namespace iilfm

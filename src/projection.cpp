@@ -1,0 +1,167 @@
+#include "iilfm/projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "iilfm/error.hpp"
+
+namespace iilfm {
+
+namespace {
+constexpr double kDegToRad = M_PI / 180.0;
+}
+
+Vec2 ImageGeometry::pixel_of_point(const Vec3& p) const {
+  return pixel_of_angles(std::atan2(p.y(), p.x()), std::atan2(p.z(), std::hypot(p.x(), p.y())));
+}
+
+Vec3 ImageGeometry::ray(double u, double v) const {
+  const double azimuth = azimuth_of_u(u);
+  const double elevation = elevation_of_v(v);
+  const double c = std::cos(elevation);
+  return Vec3(c * std::cos(azimuth), c * std::sin(azimuth), std::sin(elevation));
+}
+
+AngularBounds angular_extent(const PointCloud& cloud) {
+  AngularBounds b{std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
+                  std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest()};
+  bool any = false;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const double x = cloud.x[i], y = cloud.y[i], z = cloud.z[i];
+    if (x == 0 && y == 0 && z == 0) continue;
+    const double az = std::atan2(y, x), el = std::atan2(z, std::hypot(x, y));
+    b.azimuth_min = std::min(b.azimuth_min, az);
+    b.azimuth_max = std::max(b.azimuth_max, az);
+    b.elevation_min = std::min(b.elevation_min, el);
+    b.elevation_max = std::max(b.elevation_max, el);
+    any = true;
+  }
+  return any ? b : AngularBounds{};
+}
+
+ImageGeometry geometry_for_bounds(const AngularBounds& bounds, double res_h, double res_v) {
+  ImageGeometry g;
+  g.res_h = res_h;
+  g.res_v = res_v;
+  // The largest azimuth lands on column 0 and the largest elevation on row 0.
+  g.u0 = bounds.azimuth_max / res_h;
+  g.v0 = bounds.elevation_max / res_v;
+  g.width = static_cast<int>(std::lround((bounds.azimuth_max - bounds.azimuth_min) / res_h)) + 1;
+  g.height =
+      static_cast<int>(std::lround((bounds.elevation_max - bounds.elevation_min) / res_v)) + 1;
+  return g;
+}
+
+SphericalProjector::SphericalProjector(ProjectionOptions options) : options_(std::move(options)) {
+  if (!(options_.res_h_deg > 0) || !(options_.res_v_deg > 0) ||
+      !std::isfinite(options_.res_h_deg) || !std::isfinite(options_.res_v_deg)) {
+    throw InputError("angular resolution must be positive (got --res-h " +
+                     std::to_string(options_.res_h_deg) + ", --res-v " +
+                     std::to_string(options_.res_v_deg) + " deg)");
+  }
+}
+
+namespace {
+bool inside(const AngularBounds& outer, const AngularBounds& inner) {
+  return inner.azimuth_min >= outer.azimuth_min && inner.azimuth_max <= outer.azimuth_max &&
+         inner.elevation_min >= outer.elevation_min && inner.elevation_max <= outer.elevation_max;
+}
+}  // namespace
+
+void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
+  const std::size_t n = cloud.size();
+  azimuth_.resize(n);
+  elevation_.resize(n);
+  range_.resize(n);
+
+  // Pass 1: spherical coordinates (paper Eq. 1) and the cloud's angular extent.
+  AngularBounds extent{std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
+                       std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest()};
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = cloud.x[i], y = cloud.y[i], z = cloud.z[i];
+    const float horizontal = std::sqrt(x * x + y * y);
+    azimuth_[i] = std::atan2(y, x);
+    elevation_[i] = std::atan2(z, horizontal);
+    range_[i] = std::sqrt(horizontal * horizontal + z * z);
+    extent.azimuth_min = std::min<double>(extent.azimuth_min, azimuth_[i]);
+    extent.azimuth_max = std::max<double>(extent.azimuth_max, azimuth_[i]);
+    extent.elevation_min = std::min<double>(extent.elevation_min, elevation_[i]);
+    extent.elevation_max = std::max<double>(extent.elevation_max, elevation_[i]);
+  }
+  if (n == 0) extent = AngularBounds{};
+
+  AngularBounds bounds = extent;
+  if (options_.field_of_view && inside(*options_.field_of_view, extent)) {
+    bounds = *options_.field_of_view;
+  }
+  const double res_h = options_.res_h_deg * kDegToRad, res_v = options_.res_v_deg * kDegToRad;
+  const ImageGeometry g = geometry_for_bounds(bounds, res_h, res_v);
+  const double pixels = static_cast<double>(g.width) * g.height;
+  if (pixels > static_cast<double>(options_.max_pixels)) {
+    throw InputError("intensity image would be " + std::to_string(g.width) + "x" +
+                     std::to_string(g.height) + " pixels, over the limit of " +
+                     std::to_string(options_.max_pixels) +
+                     "; check --res-h/--res-v (degrees) or the sensor preset");
+  }
+
+  out.geometry = g;
+  out.intensity.create(g.height, g.width, CV_32F);
+  out.range.create(g.height, g.width, CV_32F);
+  out.mask.create(g.height, g.width, CV_8U);
+  out.index.create(g.height, g.width, CV_32S);
+  out.count.create(g.height, g.width, CV_32S);
+  best_offset_.create(g.height, g.width, CV_32F);
+  out.intensity.setTo(0);
+  out.range.setTo(0);
+  out.count.setTo(0);
+  out.index.setTo(-1);
+  best_offset_.setTo(std::numeric_limits<float>::max());
+
+  // Pass 2: bin every point (paper Eq. 2 with the non-mirrored orientation).
+  const bool nearest = options_.collision == CollisionPolicy::kNearest;
+  float* intensity = out.intensity.ptr<float>();
+  float* range = out.range.ptr<float>();
+  std::int32_t* index = out.index.ptr<std::int32_t>();
+  std::int32_t* count = out.count.ptr<std::int32_t>();
+  float* best = best_offset_.ptr<float>();
+  std::size_t projected = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (range_[i] <= 0) continue;
+    const double u = g.u0 - azimuth_[i] / res_h, v = g.v0 - elevation_[i] / res_v;
+    const long col = std::lround(u), row = std::lround(v);
+    if (col < 0 || row < 0 || col >= g.width || row >= g.height) continue;
+    const std::size_t p = static_cast<std::size_t>(row) * g.width + col;
+    const float du = static_cast<float>(u - col), dv = static_cast<float>(v - row);
+    const float offset = du * du + dv * dv;
+    if (nearest) {
+      if (count[p] == 0 || range_[i] < range[p]) {
+        range[p] = range_[i];
+        intensity[p] = cloud.intensity[i];
+      }
+    } else {
+      range[p] += range_[i];
+      intensity[p] += cloud.intensity[i];
+    }
+    if (offset < best[p]) {
+      best[p] = offset;
+      index[p] = static_cast<std::int32_t>(i);
+    }
+    ++count[p];
+    ++projected;
+  }
+
+  std::uint8_t* mask = out.mask.ptr<std::uint8_t>();
+  const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
+  for (std::size_t p = 0; p < total; ++p) {
+    mask[p] = count[p] > 0 ? 255 : 0;
+    if (!nearest && count[p] > 1) {
+      range[p] /= static_cast<float>(count[p]);
+      intensity[p] /= static_cast<float>(count[p]);
+    }
+  }
+  out.points_projected = projected;
+}
+
+}  // namespace iilfm

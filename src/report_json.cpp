@@ -1,0 +1,105 @@
+#include <cmath>
+
+#include "iilfm/pose.hpp"
+#include "iilfm/report.hpp"
+
+namespace iilfm {
+
+namespace {
+
+using nlohmann::json;
+
+// Rounds for output: 0.1 mm / 1e-6 keeps files readable without losing real precision.
+double round_to(double value, double step) { return std::round(value / step) * step; }
+
+json matrix_json(const Isometry3& T) {
+  json rows = json::array();
+  const Mat4 M = T.matrix();
+  for (int r = 0; r < 4; ++r) {
+    json row = json::array();
+    for (int c = 0; c < 4; ++c) row.push_back(round_to(M(r, c), 1e-9));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+json vec_json(const Vec3& v, double step) {
+  return json::array({round_to(v.x(), step), round_to(v.y(), step), round_to(v.z(), step)});
+}
+
+json marker_json(const MarkerResult& m) {
+  json corners_px = json::array(), corners_lidar = json::array(), observed = json::array(),
+       status = json::array();
+  for (const Vec2& px : m.detection.corners_px)
+    corners_px.push_back({round_to(px.x(), 1e-4), round_to(px.y(), 1e-4)});
+  for (const LiftedCorner& c : m.corners) {
+    // An unrecoverable corner is null: never a made-up point.
+    corners_lidar.push_back(c.valid() ? vec_json(c.point, 1e-6) : json(nullptr));
+    observed.push_back(c.status == CornerStatus::kObserved);
+    status.push_back(to_string(c.status));
+  }
+  json out = {{"family", m.detection.family},
+              {"id", m.detection.id},
+              {"corners_px", corners_px},
+              {"corners_lidar", corners_lidar},
+              {"observed", observed},
+              {"corner_status", status},
+              {"hamming", m.detection.hamming},
+              {"decision_margin", round_to(m.detection.decision_margin, 1e-3)},
+              {"in_map", m.in_map}};
+  if (m.T_lidar_marker) {
+    out["T_lidar_marker"] = matrix_json(*m.T_lidar_marker);
+    out["marker_fit_rms_m"] = round_to(m.marker_fit_rms, 1e-6);
+  } else {
+    out["T_lidar_marker"] = nullptr;
+  }
+  return out;
+}
+
+}  // namespace
+
+json result_to_json(const FrameResult& result, const InputInfo& input) {
+  const ImageGeometry& g = result.image.geometry;
+  json out;
+  out["input"] = {{"path", input.path},
+                  {"points", input.stats.points_in_file},
+                  {"valid_points", input.stats.valid_points},
+                  {"skipped_non_finite", input.stats.non_finite},
+                  {"skipped_zero", input.stats.zero}};
+  out["image"] = {{"width", g.width},
+                  {"height", g.height},
+                  {"res_h_deg", round_to(g.res_h * 180 / M_PI, 1e-9)},
+                  {"res_v_deg", round_to(g.res_v * 180 / M_PI, 1e-9)},
+                  {"observed_pixels", cv::countNonZero(result.image.mask)},
+                  {"threshold", round_to(result.preprocessed.threshold, 1e-3)}};
+  json markers = json::array();
+  for (const MarkerResult& m : result.markers) markers.push_back(marker_json(m));
+  out["markers"] = markers;
+  if (result.pose) {
+    const LidarPose& p = *result.pose;
+    const Eigen::Quaterniond q(p.T_world_lidar.linear());
+    out["pose"] = {{"T_world_lidar", matrix_json(p.T_world_lidar)},
+                   {"xyz", vec_json(p.T_world_lidar.translation(), 1e-6)},
+                   {"quat_xyzw",
+                    {round_to(q.x(), 1e-9), round_to(q.y(), 1e-9), round_to(q.z(), 1e-9),
+                     round_to(q.w(), 1e-9)}},
+                   {"rpy_deg", vec_json(rpy_deg(p.T_world_lidar.linear()), 1e-6)},
+                   {"rms_m", round_to(p.rms, 1e-6)},
+                   {"corners_used", p.corners_used},
+                   {"markers_used", p.markers_used}};
+  } else {
+    out["pose"] = nullptr;
+    out["pose_missing_reason"] = result.pose_missing_reason;
+  }
+  const StageTimes& t = result.times_ms;
+  out["timing_ms"] = {{"read", round_to(input.read_ms, 1e-3)},
+                      {"project", round_to(t.project, 1e-3)},
+                      {"preprocess", round_to(t.preprocess, 1e-3)},
+                      {"detect", round_to(t.detect, 1e-3)},
+                      {"lift", round_to(t.lift, 1e-3)},
+                      {"pose", round_to(t.pose, 1e-3)},
+                      {"total", round_to(input.read_ms + t.total(), 1e-3)}};
+  return out;
+}
+
+}  // namespace iilfm

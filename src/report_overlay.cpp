@@ -1,0 +1,59 @@
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "iilfm/report.hpp"
+
+namespace iilfm {
+
+cv::Mat draw_overlay(const FrameResult& result) {
+  const cv::Mat& gray = result.preprocessed.gray;
+  if (gray.empty()) return cv::Mat(1, 1, CV_8UC3, cv::Scalar(0, 0, 0));
+  const ImageGeometry& g = result.image.geometry;
+
+  // Square pixels in angle, and at least ~1200 px wide (capped so huge images stay small files).
+  const double aspect = g.res_v / g.res_h;
+  double sx = std::clamp(1200.0 / gray.cols, 1.0, 8.0);
+  double sy = sx * aspect;
+  const double max_side = 4000.0;
+  const double shrink = std::min({1.0, max_side / (gray.cols * sx), max_side / (gray.rows * sy)});
+  sx *= shrink;
+  sy *= shrink;
+
+  cv::Mat color;
+  cv::cvtColor(gray, color, cv::COLOR_GRAY2BGR);
+  color.setTo(cv::Scalar(40, 90, 40), result.image.mask == 0);
+  cv::Mat canvas;
+  cv::resize(color, canvas, cv::Size(), sx, sy, cv::INTER_NEAREST);
+
+  // Continuous image coordinates (centres at integers) to canvas coordinates.
+  auto to_canvas = [&](const Vec2& px) {
+    return cv::Point2d((px.x() + 0.5) * sx - 0.5, (px.y() + 0.5) * sy - 0.5);
+  };
+  const cv::Scalar corner_colors[4] = {{0, 0, 255}, {0, 200, 0}, {255, 80, 0}, {0, 220, 255}};
+  const int thickness = std::max(1, static_cast<int>(std::lround(std::min(sx, sy) / 2)));
+  for (const MarkerResult& m : result.markers) {
+    const auto& c = m.detection.corners_px;
+    const std::size_t n = c.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      cv::line(canvas, to_canvas(c[k]), to_canvas(c[(k + 1) % n]), cv::Scalar(0, 160, 255),
+               thickness, cv::LINE_AA);
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const cv::Point2d p = to_canvas(c[k]);
+      cv::circle(canvas, p, 3 * thickness + 1, corner_colors[k % 4], cv::FILLED, cv::LINE_AA);
+      cv::putText(canvas, std::to_string(k + 1), p + cv::Point2d(4, -4), cv::FONT_HERSHEY_SIMPLEX,
+                  0.4 * thickness + 0.2, corner_colors[k % 4], 1, cv::LINE_AA);
+    }
+    Vec2 centre = Vec2::Zero();
+    for (const Vec2& px : c) centre += px / static_cast<double>(n);
+    const std::string label = m.detection.family.substr(m.detection.family.find(':') + 1) + " #" +
+                              std::to_string(m.detection.id);
+    cv::putText(canvas, label, to_canvas(centre) + cv::Point2d(-20, 0), cv::FONT_HERSHEY_SIMPLEX,
+                0.5, cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
+  }
+  return canvas;
+}
+
+}  // namespace iilfm

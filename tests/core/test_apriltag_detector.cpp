@@ -1,0 +1,123 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "apriltag_render.hpp"
+#include "iilfm/detector.hpp"
+#include "iilfm/error.hpp"
+
+namespace iilfm {
+namespace {
+
+constexpr int kCell = 12;    // pixels per tag cell
+constexpr int kMargin = 40;  // white pixels around the rendered tag
+
+struct Rendered {
+  cv::Mat image;
+  std::vector<Vec2> corners;  // expected TL, TR, BR, BL of the black square (centres at integers)
+};
+
+Rendered render(const std::string& family, int id) {
+  int border = 0;
+  const cv::Mat tag = testing::render_apriltag(family, id, &border);
+  cv::Mat big;
+  cv::resize(tag, big, cv::Size(), kCell, kCell, cv::INTER_NEAREST);
+  Rendered out;
+  cv::copyMakeBorder(big, out.image, kMargin, kMargin, kMargin, kMargin, cv::BORDER_CONSTANT, 255);
+  // The black square spans cells [off, off + border); its edges lie between pixels, i.e. at
+  // pixel coordinate (edge index - 0.5) with centres at integers.
+  const double off = (tag.cols - border) / 2.0;
+  const double lo = kMargin + off * kCell - 0.5, hi = kMargin + (off + border) * kCell - 0.5;
+  out.corners = {Vec2(lo, lo), Vec2(hi, lo), Vec2(hi, hi), Vec2(lo, hi)};
+  return out;
+}
+
+// libapriltag places hard black/white steps about 0.1 px up-left of the true edge (measured:
+// -0.10..-0.125 px per axis for 4-12 px cells); on a smoothed edge the mean offset is ~0, which
+// pins the half-pixel convention. A convention slip would shift every corner by 0.5 px per axis.
+void expect_corners(const Detection& d, const std::vector<Vec2>& expected, double tol,
+                    const std::string& what, double mean_tol = 0.2) {
+  ASSERT_EQ(d.corners_px.size(), 4u) << what;
+  Vec2 mean_offset = Vec2::Zero();
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_LT((d.corners_px[k] - expected[k]).norm(), tol)
+        << what << " corner " << k << ": got " << d.corners_px[k].transpose() << " expected "
+        << expected[k].transpose();
+    mean_offset += (d.corners_px[k] - expected[k]) / 4;
+  }
+  EXPECT_LT(mean_offset.norm(), mean_tol) << what << " mean offset " << mean_offset.transpose();
+}
+
+class AprilTagFamilies : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(AprilTagFamilies, CornersComeInCanonicalOrderAtTheRightPixelCentres) {
+  const std::string family = GetParam();
+  const Rendered r = render(family, 3);
+  auto detector = make_detector("apriltag:" + family);
+  std::vector<Detection> found;
+  detector->detect(r.image, found);
+  ASSERT_EQ(found.size(), 1u) << family;
+  EXPECT_EQ(found[0].id, 3);
+  EXPECT_EQ(found[0].family, "apriltag:" + family);
+  EXPECT_EQ(found[0].hamming, 0);
+  // A rotated order would be off by a whole tag side; libapriltag's own corner error on a
+  // perfect binary image reaches about 0.25 px on single corners.
+  expect_corners(found[0], r.corners, 0.3, family);
+}
+
+TEST_P(AprilTagFamilies, OrderFollowsThePrintedTagWhenTheImageIsRotated) {
+  const std::string family = GetParam();
+  const Rendered r = render(family, 5);
+  cv::Mat rotated;
+  cv::rotate(r.image, rotated, cv::ROTATE_90_CLOCKWISE);
+  // Rotating clockwise maps (x, y) to (H - 1 - y, x): the printed top-left goes to the top-right.
+  const double n = r.image.rows - 1;
+  std::vector<Vec2> expected;
+  for (const Vec2& c : r.corners) expected.emplace_back(n - c.y(), c.x());
+  std::vector<Detection> found;
+  make_detector("apriltag:" + family)->detect(rotated, found);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].id, 5);
+  expect_corners(found[0], expected, 0.3, family + " rotated");
+  EXPECT_GT(found[0].corners_px[0].x(), found[0].corners_px[3].x());  // TL is now right of BL
+}
+
+TEST(AprilTagDetector, SmoothedEdgesPinTheHalfPixelConvention) {
+  Rendered r = render("tag36h11", 3);
+  cv::GaussianBlur(r.image, r.image, cv::Size(0, 0), 1.5);
+  std::vector<Detection> found;
+  make_detector("apriltag:tag36h11")->detect(r.image, found);
+  ASSERT_EQ(found.size(), 1u);
+  expect_corners(found[0], r.corners, 0.3, "blurred", 0.05);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFamilies, AprilTagFamilies,
+                         ::testing::Values("tag16h5", "tag25h9", "tag36h10", "tag36h11",
+                                           "tagCircle21h7", "tagCircle49h12", "tagCustom48h12",
+                                           "tagStandard41h12", "tagStandard52h13"));
+
+TEST(AprilTagDetector, MirroredTagDoesNotDecodeAsItself) {
+  const Rendered r = render("tag36h11", 0);
+  cv::Mat mirrored;
+  cv::flip(r.image, mirrored, 1);
+  std::vector<Detection> found;
+  make_detector("apriltag:tag36h11")->detect(mirrored, found);
+  for (const Detection& d : found) EXPECT_NE(d.id, 0);
+}
+
+TEST(DetectorRegistry, RejectsUnknownFamiliesWithAHint) {
+  try {
+    make_detector("tag36h11");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("apriltag:tag36h11"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(make_detector("apriltag:tag99h9"), InputError);
+  EXPECT_THROW(make_detector("quirk:tag36h11"), InputError);
+  EXPECT_EQ(known_families().size(), 9u);
+  EXPECT_EQ(family_layout("apriltag:tag36h11").border_width, 8);
+  EXPECT_EQ(family_layout("apriltag:tag36h11").total_width, 10);
+}
+
+}  // namespace
+}  // namespace iilfm

@@ -1,0 +1,117 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "iilfm/error.hpp"
+#include "iilfm/projection.hpp"
+
+namespace iilfm {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+PointCloud cloud_of(const std::vector<Vec3>& points, float intensity = 100) {
+  PointCloud cloud;
+  for (const Vec3& p : points) cloud.push_back(p.x(), p.y(), p.z(), intensity);
+  return cloud;
+}
+
+TEST(ImageGeometry, PointToPixelToRayRoundTrips) {
+  ImageGeometry g = geometry_for_bounds({-M_PI, M_PI, -0.4, 0.3}, 0.2 * kDeg, 2 * kDeg);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> az(-M_PI + 1e-6, M_PI), el(-0.4, 0.3), r(0.5, 80);
+  for (int i = 0; i < 1000; ++i) {
+    const double a = az(rng), e = el(rng);
+    const Vec3 p = r(rng) * Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+    const Vec2 uv = g.pixel_of_point(p);
+    EXPECT_LT((g.ray(uv) - p.normalized()).norm(), 1e-12);
+    EXPECT_NEAR(g.azimuth_of_u(uv.x()), a, 1e-12);
+    EXPECT_NEAR(g.elevation_of_v(uv.y()), e, 1e-12);
+  }
+}
+
+TEST(ImageGeometry, IsNotMirrored) {
+  // Looking along +x: a point to the left (+y) is left in the image, a point above is higher.
+  const ImageGeometry g = geometry_for_bounds({-0.5, 0.5, -0.5, 0.5}, 0.01, 0.01);
+  const Vec2 centre = g.pixel_of_point(Vec3(5, 0, 0));
+  const Vec2 left = g.pixel_of_point(Vec3(5, 1, 0));
+  const Vec2 up = g.pixel_of_point(Vec3(5, 0, 1));
+  EXPECT_LT(left.x(), centre.x());
+  EXPECT_NEAR(left.y(), centre.y(), 1e-12);
+  EXPECT_LT(up.y(), centre.y());
+  EXPECT_NEAR(up.x(), centre.x(), 1e-12);
+}
+
+TEST(ImageGeometry, SizeFollowsTheAngularExtent) {
+  const ImageGeometry g =
+      geometry_for_bounds({-10 * kDeg, 10 * kDeg, -5 * kDeg, 5 * kDeg}, 0.5 * kDeg, 0.25 * kDeg);
+  EXPECT_EQ(g.width, 41);
+  EXPECT_EQ(g.height, 41);
+  EXPECT_NEAR(g.pixel_of_angles(10 * kDeg, 5 * kDeg).x(), 0, 1e-9);
+  EXPECT_NEAR(g.pixel_of_angles(-10 * kDeg, -5 * kDeg).y(), 40, 1e-9);
+}
+
+TEST(SphericalProjector, BinsPointsWithMeanAndNearestPolicies) {
+  // Two points in the same pixel at 4 m and 4.2 m, one more elsewhere to span the image.
+  const std::vector<Vec3> pts = {Vec3(4, 0, 0), Vec3(4.2, 0.0001, 0), Vec3(4, 0.3, 0.3)};
+  PointCloud cloud = cloud_of(pts);
+  cloud.intensity = {10, 30, 50};
+  ProjectionOptions opt;
+  opt.res_h_deg = opt.res_v_deg = 0.5;
+  ProjectedImage img;
+  SphericalProjector(opt).project(cloud, img);
+  const Vec2 uv = img.geometry.pixel_of_point(pts[0]);
+  const int c = static_cast<int>(std::lround(uv.x())), r = static_cast<int>(std::lround(uv.y()));
+  EXPECT_EQ(img.count.at<int>(r, c), 2);
+  EXPECT_NEAR(img.range.at<float>(r, c), (4.0 + std::hypot(4.2, 0.0001)) / 2, 1e-5);
+  EXPECT_NEAR(img.intensity.at<float>(r, c), 20, 1e-5);
+  EXPECT_EQ(img.index.at<int>(r, c), 0);  // exactly at the pixel centre
+  EXPECT_EQ(cv::countNonZero(img.mask), 2);
+  EXPECT_EQ(img.points_projected, 3u);
+
+  opt.collision = CollisionPolicy::kNearest;
+  SphericalProjector(opt).project(cloud, img);
+  EXPECT_NEAR(img.range.at<float>(r, c), 4.0, 1e-6);
+  EXPECT_NEAR(img.intensity.at<float>(r, c), 10, 1e-6);
+}
+
+TEST(SphericalProjector, UsesThePresetFieldOfViewWhenTheCloudFitsInIt) {
+  const PointCloud cloud = cloud_of({Vec3(3, 0.1, 0.1), Vec3(3, -0.1, -0.1)});
+  ProjectionOptions opt;
+  opt.res_h_deg = opt.res_v_deg = 0.05;
+  opt.field_of_view = AngularBounds{-19.2 * kDeg, 19.2 * kDeg, -19.2 * kDeg, 19.2 * kDeg};
+  ProjectedImage img;
+  SphericalProjector(opt).project(cloud, img);
+  EXPECT_EQ(img.geometry.width, 769);
+  EXPECT_EQ(img.geometry.height, 769);
+  // A point outside the preset's window: the image grows to the cloud instead of dropping it.
+  const PointCloud wide = cloud_of({Vec3(3, 0.1, 0.1), Vec3(0, 3, 0)});
+  SphericalProjector(opt).project(wide, img);
+  EXPECT_EQ(img.points_projected, 2u);
+}
+
+TEST(SphericalProjector, RefusesAbsurdImageSizes) {
+  const PointCloud cloud = cloud_of({Vec3(1, 1, 1), Vec3(1, -1, -1)});
+  ProjectionOptions opt;
+  opt.res_h_deg = opt.res_v_deg = 0.0001;
+  ProjectedImage img;
+  try {
+    SphericalProjector(opt).project(cloud, img);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--res-h"), std::string::npos);
+  }
+  opt.res_h_deg = 0;
+  EXPECT_THROW(SphericalProjector{opt}, InputError);
+}
+
+TEST(SphericalProjector, EmptyCloudGivesAOnePixelUnobservedImage) {
+  ProjectionOptions opt;
+  ProjectedImage img;
+  SphericalProjector(opt).project(PointCloud{}, img);
+  EXPECT_EQ(cv::countNonZero(img.mask), 0);
+  EXPECT_EQ(img.points_projected, 0u);
+}
+
+}  // namespace
+}  // namespace iilfm
