@@ -1,4 +1,5 @@
-// Value types shared by every stage: the structure-of-arrays point cloud and small geometry aliases.
+// Value types shared by every stage: the structure-of-arrays point cloud and small geometry
+// aliases.
 #pragma once
 
 #include <Eigen/Core>
