@@ -1,0 +1,25 @@
+// The printed image of an AprilTag, rendered once by libapriltag and looked up per beam.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace iilfm::sim {
+
+struct MarkerTexture {
+  int total_width = 0;               // image side in cells, white quiet zone included
+  int width_at_border = 0;           // cells spanned by the outer black square (marker size)
+  std::vector<std::uint8_t> pixels;  // total_width^2, row 0 = top of the printed tag; 0 black
+
+  bool is_black(int row, int col) const { return pixels[row * total_width + col] < 128; }
+};
+
+// Renders `id` of a family named "apriltag:<name>" with libapriltag's apriltag_to_image.
+// InputError for other prefixes, unknown families and ids outside the family.
+MarkerTexture render_marker_texture(const std::string& family, int id);
+
+// Names of the AprilTag families libapriltag ships, with the "apriltag:" prefix.
+std::vector<std::string> apriltag_family_names();
+
+}  // namespace iilfm::sim

@@ -1,0 +1,39 @@
+// The LiDARs the simulator can imitate: how each one sweeps its beams, how fast, and how noisy.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace iilfm::sim {
+
+enum class ScanPattern {
+  kRosette,   // Livox-style Risley prisms: a non-repeating flower inside a circular cone
+  kSpinning,  // Velodyne-style: a column of fixed-elevation rings fired at every azimuth step
+};
+
+struct SensorModel {
+  std::string name;  // "mid40", "vlp16", "ultrapuck"
+  ScanPattern pattern = ScanPattern::kRosette;
+  double points_per_second = 0;
+  double frame_rate_hz = 10;
+  double range_sigma_m = 0;  // default 1-sigma range noise along the beam
+  double min_range_m = 0, max_range_m = 0;
+  double fov_deg = 0;                       // rosette: full cone angle (Mid-40: 38.4)
+  std::vector<double> ring_elevations_deg;  // spinning: index = ring number, ring 0 lowest
+  double azimuth_step_deg = 0;              // spinning: column step
+};
+
+SensorModel mid40();       // Livox Mid-40: 38.4 deg circular FoV, 100k pts/s, sigma 0.02 m
+SensorModel vlp16();       // Velodyne VLP-16: 16 rings -15..+15 deg, 0.2 deg columns, sigma 0.03 m
+SensorModel ultra_puck();  // Velodyne ULTRA Puck / VLP-32C: 32 non-uniform rings, 0.2 deg columns
+
+// The model with this lower-case name; InputError listing the known names otherwise.
+SensorModel sensor_model(const std::string& name);
+
+// Names sensor_model() accepts, in a stable order.
+std::vector<std::string> sensor_model_names();
+
+// Points in one frame (one 1/frame_rate_hz period).
+int points_per_frame(const SensorModel& sensor);
+
+}  // namespace iilfm::sim

@@ -1,0 +1,59 @@
+// One simulated scan: every beam of the sensor ray-cast into a scene, plus the ground truth.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "iilfm/sim/scene.hpp"
+#include "iilfm/sim/sensor_models.hpp"
+#include "iilfm/types.hpp"
+
+namespace iilfm::sim {
+
+struct SimOptions {
+  Isometry3 T_world_lidar = Isometry3::Identity();  // the LiDAR's pose in the world
+  int frames = 1;  // integrated frames (rosette: consecutive 0.1 s; spinning: repeated sweeps)
+  std::uint64_t seed = 1;
+  double range_sigma_m = -1;   // < 0: the sensor's default; 0 disables
+  double intensity_sigma = 4;  // additive intensity noise, result clamped to >= 0
+  // Beam direction jitter: the range and intensity come from a jittered ray while the point is
+  // reported along the nominal direction, as an encoder or beam-divergence error would.
+  double angle_sigma_deg = 0;
+};
+
+struct MarkerTruth {
+  std::string family;
+  int id = 0;
+  double size_m = 0;
+  Isometry3 T_world_marker = Isometry3::Identity(), T_lidar_marker = Isometry3::Identity();
+  // Top-left, top-right, bottom-right, bottom-left of the outer black square.
+  std::array<Vec3, 4> corners_world, corners_lidar;
+  bool visible = false;  // all corners in the sensor's FoV and range, printed face towards it
+  std::size_t points_on_marker = 0;  // returns that landed inside the outer black square
+};
+
+struct GroundTruth {
+  std::string sensor;
+  Isometry3 T_world_lidar = Isometry3::Identity();
+  int frames = 1;
+  std::uint64_t seed = 1;
+  double range_sigma_m = 0;  // the sigma actually used
+  std::vector<MarkerTruth> markers;
+};
+
+struct SimResult {
+  PointCloud cloud;  // in the LiDAR frame; `time` always, `ring` for spinning sensors
+  GroundTruth truth;
+};
+
+// Deterministic for a given seed. InputError for an unknown family, an id outside the family,
+// a non-positive size, or frames < 1.
+SimResult simulate(const Scene& scene, const SensorModel& sensor, const SimOptions& options);
+
+// The ground truth alone (no ray casting); simulate() fills points_on_marker on top of it.
+GroundTruth ground_truth(const Scene& scene, const SensorModel& sensor, const SimOptions& options);
+
+}  // namespace iilfm::sim

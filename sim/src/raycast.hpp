@@ -1,0 +1,51 @@
+// Internal: the scene moved into the LiDAR frame as flat rectangles, and rays cast from the
+// LiDAR origin against them.
+#pragma once
+
+#include <vector>
+
+#include "iilfm/sim/marker_texture.hpp"
+#include "iilfm/sim/scene.hpp"
+#include "iilfm/types.hpp"
+
+namespace iilfm::sim {
+
+struct RayHit {
+  double range = 0;  // distance from the LiDAR origin along the unit ray
+  float intensity = 0;
+  int marker = -1;               // index into Scene::markers when the ray hit a printed sheet
+  bool in_black_square = false;  // inside the marker's outer black square
+};
+
+class SceneRaycaster {
+ public:
+  // Renders each distinct (family, id) once. InputError for markers the simulator cannot print.
+  SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_world);
+
+  // Nearest surface along `direction` (unit, LiDAR frame) from the LiDAR origin; false if none.
+  bool cast(const Vec3& direction, RayHit* hit) const;
+
+ private:
+  struct Rectangle {
+    Vec3 centre, x_axis, y_axis, normal;
+    double half_width = 0, half_height = 0;
+  };
+  struct Sheet {  // a printed marker: its whole image, quiet zone included
+    Rectangle rect;
+    int texture = 0;
+    double cell_m = 0, half_black_m = 0;
+  };
+
+  // Ray parameter and in-plane coordinates of a hit on `r`, or false when the ray misses it.
+  static bool intersect(const Rectangle& r, const Vec3& direction, bool front_only, double* range,
+                        double* local_x, double* local_y);
+  float sheet_intensity(const Sheet& sheet, double local_x, double local_y) const;
+
+  std::vector<Rectangle> walls_;
+  std::vector<float> wall_reflectivity_;
+  std::vector<Sheet> sheets_;
+  std::vector<MarkerTexture> textures_;
+  float white_ = 0, black_ = 0;
+};
+
+}  // namespace iilfm::sim

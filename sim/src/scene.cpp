@@ -1,0 +1,67 @@
+// Marker geometry: canonical corners and the walls-and-floor scene most tests and demos use.
+#include "iilfm/sim/scene.hpp"
+
+#include <cmath>
+
+namespace iilfm::sim {
+namespace {
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+}  // namespace
+
+std::array<Vec3, 4> marker_corners_local(double size_m) {
+  const double h = size_m / 2;
+  return {Vec3(-h, h, 0), Vec3(h, h, 0), Vec3(h, -h, 0), Vec3(-h, -h, 0)};
+}
+
+std::array<Vec3, 4> marker_corners_world(const MarkerSpec& m) {
+  std::array<Vec3, 4> corners = marker_corners_local(m.size_m);
+  for (Vec3& c : corners) c = m.T_world_marker * c;
+  return corners;
+}
+
+Mat3 facing_minus_x(double in_plane_deg) {
+  Mat3 upright;
+  upright.col(0) = -Vec3::UnitY();  // the viewer looks along +x, so its right is -y
+  upright.col(1) = Vec3::UnitZ();
+  upright.col(2) = -Vec3::UnitX();
+  return upright * Eigen::AngleAxisd(in_plane_deg * kDegToRad, Vec3::UnitZ()).toRotationMatrix();
+}
+
+MarkerSpec wall_marker(const std::string& family, int id, double size_m, double wall_x, double y,
+                       double z, double in_plane_deg) {
+  MarkerSpec m;
+  m.family = family;
+  m.id = id;
+  m.size_m = size_m;
+  m.T_world_marker = Isometry3::Identity();
+  m.T_world_marker.linear() = facing_minus_x(in_plane_deg);
+  m.T_world_marker.translation() = Vec3(wall_x, y, z);
+  return m;
+}
+
+Scene wall_scene(const std::vector<MarkerSpec>& markers, double wall_x, double floor_z,
+                 double wall_width_m, double wall_height_m) {
+  constexpr double kFloorDepth = 10;  // how far the floor reaches back from the wall
+  Scene scene;
+  Wall wall;
+  wall.T_world_wall = Isometry3::Identity();
+  wall.T_world_wall.linear() = facing_minus_x();
+  wall.T_world_wall.translation() = Vec3(wall_x, 0, floor_z + wall_height_m / 2);
+  wall.width_m = wall_width_m;
+  wall.height_m = wall_height_m;
+  wall.reflectivity = 60;  // matt paint: darker than paper, brighter than the printed black
+  scene.walls.push_back(wall);
+
+  Wall floor;
+  floor.T_world_wall = Isometry3::Identity();
+  floor.T_world_wall.translation() = Vec3(wall_x - kFloorDepth / 2, 0, floor_z);
+  floor.width_m = kFloorDepth;
+  floor.height_m = wall_width_m;
+  floor.reflectivity = 25;
+  scene.walls.push_back(floor);
+
+  scene.markers = markers;
+  return scene;
+}
+
+}  // namespace iilfm::sim

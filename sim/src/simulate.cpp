@@ -1,0 +1,134 @@
+// The scan loop: generate each frame's beams, cast them, add noise, keep the returns in range.
+#include "iilfm/sim/simulate.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "iilfm/error.hpp"
+#include "normal_sampler.hpp"
+#include "raycast.hpp"
+#include "scan_pattern.hpp"
+
+namespace iilfm::sim {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOptions& options) {
+  if (options.frames < 1) {
+    throw InputError("simulated frames must be at least 1, got " + std::to_string(options.frames));
+  }
+  if (!(sensor.points_per_second > 0) || !(sensor.frame_rate_hz > 0)) {
+    throw InputError("sensor '" + sensor.name + "' needs a positive point and frame rate");
+  }
+  if (sensor.pattern == ScanPattern::kRosette && !(sensor.fov_deg > 0 && sensor.fov_deg < 180)) {
+    throw InputError("rosette sensor '" + sensor.name + "' needs a field of view in (0, 180) deg");
+  }
+  if (sensor.pattern == ScanPattern::kSpinning &&
+      (sensor.ring_elevations_deg.empty() || !(sensor.azimuth_step_deg > 0))) {
+    throw InputError("spinning sensor '" + sensor.name + "' needs rings and an azimuth step");
+  }
+  for (const MarkerSpec& m : scene.markers) {
+    if (!(m.size_m > 0)) {
+      throw InputError("marker " + m.family + "/" + std::to_string(m.id) +
+                       " needs a positive size, got " + std::to_string(m.size_m));
+    }
+  }
+}
+
+// Whether a LiDAR-frame point lies inside the sensor's angular field of view.
+bool in_field_of_view(const SensorModel& sensor, const Vec3& p) {
+  const double n = p.norm();
+  if (n == 0) return false;
+  if (sensor.pattern == ScanPattern::kRosette) {
+    return std::acos(std::clamp(p.x() / n, -1.0, 1.0)) <= sensor.fov_deg / 2 * kDegToRad;
+  }
+  const auto [lowest, highest] =
+      std::minmax_element(sensor.ring_elevations_deg.begin(), sensor.ring_elevations_deg.end());
+  const double elevation = std::asin(std::clamp(p.z() / n, -1.0, 1.0)) / kDegToRad;
+  return elevation >= *lowest && elevation <= *highest;
+}
+
+// The direction `d` turned by a small random angle (two independent components of sigma).
+Vec3 jittered(const Vec3& d, double sigma_rad, NormalSampler& normal) {
+  const Vec3 helper = std::abs(d.z()) < 0.9 ? Vec3::UnitZ() : Vec3::UnitX();
+  const Vec3 e1 = d.cross(helper).normalized();
+  const Vec3 e2 = d.cross(e1);
+  const double a = sigma_rad * normal.next(), b = sigma_rad * normal.next();
+  return (d + a * e1 + b * e2).normalized();
+}
+
+}  // namespace
+
+GroundTruth ground_truth(const Scene& scene, const SensorModel& sensor, const SimOptions& options) {
+  GroundTruth truth;
+  truth.sensor = sensor.name;
+  truth.T_world_lidar = options.T_world_lidar;
+  truth.frames = options.frames;
+  truth.seed = options.seed;
+  truth.range_sigma_m = options.range_sigma_m < 0 ? sensor.range_sigma_m : options.range_sigma_m;
+  const Isometry3 T_lidar_world = options.T_world_lidar.inverse();
+  for (const MarkerSpec& m : scene.markers) {
+    MarkerTruth t;
+    t.family = m.family;
+    t.id = m.id;
+    t.size_m = m.size_m;
+    t.T_world_marker = m.T_world_marker;
+    t.T_lidar_marker = T_lidar_world * m.T_world_marker;
+    t.corners_world = marker_corners_world(m);
+    bool visible = true;
+    for (int i = 0; i < 4; ++i) {
+      t.corners_lidar[i] = T_lidar_world * t.corners_world[i];
+      const double range = t.corners_lidar[i].norm();
+      visible = visible && range >= sensor.min_range_m && range <= sensor.max_range_m &&
+                in_field_of_view(sensor, t.corners_lidar[i]);
+    }
+    // The printed face points at the LiDAR when the marker's z axis points back at the origin.
+    const Vec3 normal = t.T_lidar_marker.linear().col(2);
+    t.visible = visible && normal.dot(-t.T_lidar_marker.translation()) > 0;
+    truth.markers.push_back(t);
+  }
+  return truth;
+}
+
+SimResult simulate(const Scene& scene, const SensorModel& sensor, const SimOptions& options) {
+  check_inputs(scene, sensor, options);
+  SimResult result;
+  result.truth = ground_truth(scene, sensor, options);
+  const double range_sigma = result.truth.range_sigma_m;
+  const double angle_sigma = options.angle_sigma_deg * kDegToRad;
+  const bool spinning = sensor.pattern == ScanPattern::kSpinning;
+
+  const SceneRaycaster raycaster(scene, options.T_world_lidar.inverse());
+  NormalSampler normal(options.seed);
+  PointCloud& cloud = result.cloud;
+  cloud.reserve(static_cast<std::size_t>(points_per_frame(sensor)) * options.frames, spinning,
+                true);
+
+  std::vector<Beam> beams;
+  RayHit hit;
+  for (int frame = 0; frame < options.frames; ++frame) {
+    scan_frame(sensor, frame, beams);
+    for (const Beam& beam : beams) {
+      // Every beam draws the same numbers whether or not it returns, so a seed means the same
+      // noise per beam whatever the scene.
+      const double range_noise = range_sigma * normal.next();
+      const double intensity_noise = options.intensity_sigma * normal.next();
+      const Vec3 cast_direction =
+          angle_sigma > 0 ? jittered(beam.direction, angle_sigma, normal) : beam.direction;
+      if (!raycaster.cast(cast_direction, &hit)) continue;
+      const double range = hit.range + range_noise;
+      if (range < sensor.min_range_m || range > sensor.max_range_m) continue;
+      const Vec3 p = range * beam.direction;
+      cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                      static_cast<float>(p.z()),
+                      static_cast<float>(std::max(0.0, hit.intensity + intensity_noise)));
+      cloud.time.push_back(beam.time);
+      if (spinning) cloud.ring.push_back(beam.ring);
+      if (hit.in_black_square) ++result.truth.markers[hit.marker].points_on_marker;
+    }
+  }
+  return result;
+}
+
+}  // namespace iilfm::sim

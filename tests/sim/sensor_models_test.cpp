@@ -1,0 +1,57 @@
+// Sensor presets: figures from the data sheets and the name lookup.
+#include "iilfm/sim/sensor_models.hpp"
+
+#include <gtest/gtest.h>
+
+#include "iilfm/error.hpp"
+
+namespace iilfm::sim {
+namespace {
+
+TEST(SensorModels, Mid40IsARosetteWithTheDataSheetFigures) {
+  const SensorModel s = mid40();
+  EXPECT_EQ(s.name, "mid40");
+  EXPECT_EQ(s.pattern, ScanPattern::kRosette);
+  EXPECT_DOUBLE_EQ(s.fov_deg, 38.4);
+  EXPECT_DOUBLE_EQ(s.points_per_second, 100000);
+  EXPECT_DOUBLE_EQ(s.frame_rate_hz, 10);
+  EXPECT_DOUBLE_EQ(s.range_sigma_m, 0.02);
+  EXPECT_DOUBLE_EQ(s.min_range_m, 1.0);
+  EXPECT_EQ(points_per_frame(s), 10000);
+}
+
+TEST(SensorModels, Vlp16Has16EvenRingsAnd1800Columns) {
+  const SensorModel s = vlp16();
+  ASSERT_EQ(s.ring_elevations_deg.size(), 16u);
+  for (int r = 0; r < 16; ++r) EXPECT_DOUBLE_EQ(s.ring_elevations_deg[r], -15.0 + 2 * r);
+  EXPECT_DOUBLE_EQ(s.azimuth_step_deg, 0.2);
+  EXPECT_DOUBLE_EQ(s.range_sigma_m, 0.03);
+  EXPECT_EQ(points_per_frame(s), 16 * 1800);
+}
+
+TEST(SensorModels, UltraPuckHas32RisingRingsFromMinus25To15) {
+  const SensorModel s = ultra_puck();
+  ASSERT_EQ(s.ring_elevations_deg.size(), 32u);
+  EXPECT_DOUBLE_EQ(s.ring_elevations_deg.front(), -25);
+  EXPECT_DOUBLE_EQ(s.ring_elevations_deg[20], 0);
+  EXPECT_DOUBLE_EQ(s.ring_elevations_deg.back(), 15);
+  for (std::size_t r = 1; r < 32; ++r) {
+    EXPECT_GT(s.ring_elevations_deg[r], s.ring_elevations_deg[r - 1]) << "ring " << r;
+  }
+  EXPECT_EQ(points_per_frame(s), 32 * 1800);
+}
+
+TEST(SensorModels, LookupByNameAndUnknownNamesListTheKnownOnes) {
+  for (const std::string& name : sensor_model_names()) EXPECT_EQ(sensor_model(name).name, name);
+  try {
+    sensor_model("hdl64");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("hdl64"), std::string::npos) << message;
+    EXPECT_NE(message.find("mid40, vlp16, ultrapuck"), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace iilfm::sim
