@@ -3,13 +3,51 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <ostream>
 
 #include "iilfm/error.hpp"
 
 namespace iilfm::sim {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // keeps the fields in the order written
+
+bool is_flat_array(const json& value) {
+  if (!value.is_array()) return false;
+  for (const json& element : value) {
+    if (element.is_structured()) return false;
+  }
+  return true;
+}
+
+// Like json::dump(2), but arrays of numbers stay on one line: a 4x4 pose reads as four rows.
+void write_json(std::ostream& out, const json& value, int indent) {
+  const std::string pad(indent + 2, ' ');
+  if (value.is_object() && !value.empty()) {
+    out << "{\n";
+    std::size_t i = 0;
+    for (auto it = value.begin(); it != value.end(); ++it, ++i) {
+      out << pad << json(it.key()).dump() << ": ";
+      write_json(out, it.value(), indent + 2);
+      out << (i + 1 < value.size() ? ",\n" : "\n");
+    }
+    out << std::string(indent, ' ') << "}";
+  } else if (value.is_array() && !value.empty() && !is_flat_array(value)) {
+    out << "[\n";
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      out << pad;
+      write_json(out, value[i], indent + 2);
+      out << (i + 1 < value.size() ? ",\n" : "\n");
+    }
+    out << std::string(indent, ' ') << "]";
+  } else if (is_flat_array(value)) {
+    out << "[";
+    for (std::size_t i = 0; i < value.size(); ++i) out << (i ? ", " : "") << value[i].dump();
+    out << "]";
+  } else {
+    out << value.dump();
+  }
+}
 
 json matrix_rows(const Isometry3& T) {
   json rows = json::array();
@@ -68,7 +106,8 @@ void write_ground_truth_json(const std::string& path, const GroundTruth& truth) 
                     {"markers", markers}};
   std::ofstream out(path);
   if (!out) throw file_error(path, "cannot open for writing");
-  out << doc.dump(2) << "\n";
+  write_json(out, doc, 0);
+  out << "\n";
   if (!out) throw file_error(path, "write failed");
 }
 
