@@ -29,7 +29,7 @@ struct DetectArgs {
   double marker_size = 0;
   int frames = 1;
   std::string threshold;
-  std::string lift = "paper";
+  std::string lift = "plane";
   std::string collision = "mean";
   double blur = 0;
   bool gray_input = false;
@@ -122,8 +122,10 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
     options.projection.collision = CollisionPolicy::kNearest;
   else if (args.collision != "mean")
     throw InputError("--collision must be 'mean' or 'nearest', got '" + args.collision + "'");
-  if (args.lift != "paper")
-    throw InputError("--lift '" + args.lift + "' is not available in this version (use 'paper')");
+  if (args.lift == "paper")
+    options.lift = LiftMethod::kPaper;
+  else if (args.lift != "plane")
+    throw InputError("--lift must be 'plane' or 'paper', got '" + args.lift + "'");
 
   if (!args.markers.empty()) options.families = args.markers;
   options.detector.apriltag.decimate = args.decimate;
@@ -220,7 +222,7 @@ Runner register_detect_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--threshold", args->threshold,
                   "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
-  cmd->add_option("--lift", args->lift, "3-D corner method: paper");
+  cmd->add_option("--lift", args->lift, "3-D corners: plane (marker-plane fit, default) or paper");
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");
   cmd->add_flag("--gray", args->gray_input, "Give detectors the gray image, not the binary one");

@@ -71,8 +71,14 @@ const FrameResult& Pipeline::process(const PointCloud& cloud) {
 
   for (Detection& detection : detections) {
     MarkerResult marker;
-    for (const Vec2& px : detection.corners_px)
-      marker.corners.push_back(lift_paper(px, r.image, options_.lift_options));
+    if (options_.lift == LiftMethod::kPlane) {
+      marker.plane = fit_marker_plane(detection.corners_px, r.image, cloud, options_.plane_fit);
+      for (const Vec2& px : detection.corners_px)
+        marker.corners.push_back(lift_on_plane(px, r.image, *marker.plane));
+    } else {
+      for (const Vec2& px : detection.corners_px)
+        marker.corners.push_back(lift_paper(px, r.image, options_.lift_options));
+    }
     marker.detection = std::move(detection);
     const MapMarker* mapped =
         options_.map ? options_.map->find(marker.detection.family, marker.detection.id) : nullptr;

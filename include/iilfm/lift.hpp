@@ -41,4 +41,31 @@ LiftedCorner lift_paper(const Vec2& keypoint_px, const ProjectedImage& image,
 // The 3-D point of an observed pixel: its range along the ray through the pixel centre.
 Vec3 pixel_point(const ProjectedImage& image, int col, int row);
 
+// A plane n.x = d in the LiDAR frame (|n| = 1, n facing the sensor).
+struct Plane {
+  Vec3 normal = Vec3::UnitX();
+  double d = 0;
+  double rms = 0;           // of the inliers, metres
+  std::size_t inliers = 0;  // points used in the final fit
+  bool ok = false;
+};
+
+struct PlaneFitOptions {
+  std::size_t min_points = 8;
+  double min_inlier_band_m = 0.01;  // inlier band is max(this, 3 robust sigmas)
+  int iterations = 3;
+};
+
+// Fits the marker's plane robustly to the observed pixels inside the detected polygon. A pixel
+// holding one point contributes that point; a pixel holding several contributes its mean range
+// along the pixel-centre ray, which is where a locally planar surface crosses that ray.
+Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
+                       const PointCloud& cloud, const PlaneFitOptions& options = {});
+
+// Where the ray through a sub-pixel keypoint meets the plane. Status: kObserved when the
+// keypoint's pixel holds points, kInterpolated when not, kUnrecoverable when the plane is not
+// usable or the ray runs (nearly) parallel to it.
+LiftedCorner lift_on_plane(const Vec2& keypoint_px, const ProjectedImage& image,
+                           const Plane& plane);
+
 }  // namespace iilfm

@@ -15,14 +15,18 @@
 
 namespace iilfm {
 
-enum class LiftMethod { kPaper };
+enum class LiftMethod {
+  kPlane,  // sub-pixel corner rays meet the robustly fitted marker plane (default)
+  kPaper,  // the paper's rule: the corner pixel's range, or the angle-bisector interpolation
+};
 
 struct PipelineOptions {
   ProjectionOptions projection;
   PreprocessOptions preprocess;
   std::vector<std::string> families = {"apriltag:tag36h11"};
   DetectorOptions detector;
-  LiftMethod lift = LiftMethod::kPaper;
+  LiftMethod lift = LiftMethod::kPlane;
+  PlaneFitOptions plane_fit;
   LiftOptions lift_options;
   std::optional<double> marker_size;  // edge of the black square for markers not in the map
   std::optional<MarkerMap> map;       // enables the LiDAR pose
@@ -34,6 +38,7 @@ struct MarkerResult {
   std::vector<LiftedCorner> corners;        // one per detection keypoint, same order
   std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
   double marker_fit_rms = 0;                // residual of that fit, metres
+  std::optional<Plane> plane;               // the fitted marker plane (plane lifting)
   bool in_map = false;
 };
 

@@ -34,6 +34,7 @@ CaseErrors run_sim_case(const CaseSetup& setup) {
   options.preprocess.threshold = preset.threshold;
   options.families = {scene.scene.markers.front().family};
   options.map = map_of(scene.scene);
+  options.lift = setup.lift;
   Pipeline pipeline(options);
   const FrameResult& result = pipeline.process(sim.cloud);
 

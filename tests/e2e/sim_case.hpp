@@ -26,6 +26,7 @@ struct CaseSetup {
   std::string sensor;  // sim sensor model and pipeline preset (same names)
   int frames = 1;
   std::uint64_t seed = 1;
+  LiftMethod lift = LiftMethod::kPlane;
 };
 
 CaseErrors run_sim_case(const CaseSetup& setup);
