@@ -46,6 +46,11 @@ SceneRaycaster::SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_worl
     sheet.half_black_m = m.size_m / 2;
     const double printed = sheet.cell_m * texture.total_width;
     sheet.rect = to_lidar(m.T_world_marker, printed, printed);
+    const double distance = sheet.rect.centre.norm(), reach = printed / std::sqrt(2.0);
+    if (distance > reach) {
+      sheet.towards_centre = sheet.rect.centre / distance;
+      sheet.cos_cone = std::cos(std::asin(reach / distance));
+    }
     sheets_.push_back(sheet);
   }
 }
@@ -90,6 +95,7 @@ bool SceneRaycaster::cast(const Vec3& direction, RayHit* hit) const {
   hit->in_black_square = false;
   for (std::size_t i = 0; i < sheets_.size(); ++i) {
     const Sheet& sheet = sheets_[i];
+    if (direction.dot(sheet.towards_centre) < sheet.cos_cone) continue;
     if (intersect(sheet.rect, direction, true, &range, &lx, &ly) &&
         range < best + kFlushTolerance) {
       best = std::min(best, range);

@@ -32,6 +32,9 @@ class SceneRaycaster {
   };
   struct Sheet {  // a printed marker: its whole image, quiet zone included
     Rectangle rect;
+    // Cone from the origin around the sheet: rays outside it cannot hit, one dot product tells.
+    Vec3 towards_centre = Vec3::UnitX();
+    double cos_cone = -1;
     int texture = 0;
     double cell_m = 0, half_black_m = 0;
   };

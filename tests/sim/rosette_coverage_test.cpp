@@ -105,7 +105,9 @@ TEST(Rosette, FortyFrameScanOfTheGridIsFast) {
   std::cout << "[ measured ] Mid-40 40 frames, grid scene (35 markers, 2 walls): " << r.cloud.size()
             << " points in " << ms << " ms\n";
   EXPECT_EQ(r.cloud.size(), 400000u);
-  EXPECT_LT(ms, 5000);  // well under a second in Release; generous for sanitizer builds
+#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+  EXPECT_LT(ms, 1000);  // optimised builds only: sanitizers slow this down 20-fold
+#endif
 }
 
 }  // namespace

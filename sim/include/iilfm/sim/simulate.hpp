@@ -40,8 +40,8 @@ struct GroundTruth {
   Isometry3 T_world_lidar = Isometry3::Identity();
   int frames = 1;
   std::uint64_t seed = 1;
-  double range_sigma_m = 0;  // the sigma actually used
   std::vector<MarkerTruth> markers;
+  double range_sigma_m = 0;  // the sigma actually used
 };
 
 struct SimResult {
