@@ -107,59 +107,54 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
   }
 
   out.geometry = g;
-  out.intensity.create(g.height, g.width, CV_32F);
-  out.range.create(g.height, g.width, CV_32F);
-  out.mask.create(g.height, g.width, CV_8U);
-  out.index.create(g.height, g.width, CV_32S);
-  out.count.create(g.height, g.width, CV_32S);
-  best_offset_.create(g.height, g.width, CV_32F);
-  out.intensity.setTo(0);
-  out.range.setTo(0);
-  out.count.setTo(0);
-  out.index.setTo(-1);
-  best_offset_.setTo(std::numeric_limits<float>::max());
+  const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
+  pixels_.assign(total, PixelAccumulator{0.f, 0.f, std::numeric_limits<float>::max(), -1, 0});
 
   // Pass 2: bin every point (paper Eq. 2 with the non-mirrored orientation).
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
-  float* intensity = out.intensity.ptr<float>();
-  float* range = out.range.ptr<float>();
-  std::int32_t* index = out.index.ptr<std::int32_t>();
-  std::int32_t* count = out.count.ptr<std::int32_t>();
-  float* best = best_offset_.ptr<float>();
   std::size_t projected = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (range_[i] <= 0) continue;
     const double u = g.u0 - azimuth_[i] / res_h, v = g.v0 - elevation_[i] / res_v;
     const long col = std::lround(u), row = std::lround(v);
     if (col < 0 || row < 0 || col >= g.width || row >= g.height) continue;
-    const std::size_t p = static_cast<std::size_t>(row) * g.width + col;
+    PixelAccumulator& px = pixels_[static_cast<std::size_t>(row) * g.width + col];
     const float du = static_cast<float>(u - col), dv = static_cast<float>(v - row);
     const float offset = du * du + dv * dv;
-    if (nearest) {
-      if (count[p] == 0 || range_[i] < range[p]) {
-        range[p] = range_[i];
-        intensity[p] = cloud.intensity[i];
-      }
-    } else {
-      range[p] += range_[i];
-      intensity[p] += cloud.intensity[i];
+    if (!nearest) {
+      px.range_sum += range_[i];
+      px.intensity_sum += cloud.intensity[i];
+    } else if (px.count == 0 || range_[i] < px.range_sum) {
+      px.range_sum = range_[i];
+      px.intensity_sum = cloud.intensity[i];
     }
-    if (offset < best[p]) {
-      best[p] = offset;
-      index[p] = static_cast<std::int32_t>(i);
+    if (offset < px.best_offset) {
+      px.best_offset = offset;
+      px.index = static_cast<std::int32_t>(i);
     }
-    ++count[p];
+    ++px.count;
     ++projected;
   }
 
+  // Pass 3: the images, written sequentially.
+  out.intensity.create(g.height, g.width, CV_32F);
+  out.range.create(g.height, g.width, CV_32F);
+  out.mask.create(g.height, g.width, CV_8U);
+  out.index.create(g.height, g.width, CV_32S);
+  out.count.create(g.height, g.width, CV_32S);
+  float* intensity = out.intensity.ptr<float>();
+  float* range = out.range.ptr<float>();
   std::uint8_t* mask = out.mask.ptr<std::uint8_t>();
-  const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
+  std::int32_t* index = out.index.ptr<std::int32_t>();
+  std::int32_t* count = out.count.ptr<std::int32_t>();
   for (std::size_t p = 0; p < total; ++p) {
-    mask[p] = count[p] > 0 ? 255 : 0;
-    if (!nearest && count[p] > 1) {
-      range[p] /= static_cast<float>(count[p]);
-      intensity[p] /= static_cast<float>(count[p]);
-    }
+    const PixelAccumulator& px = pixels_[p];
+    const float scale = (nearest || px.count <= 1) ? 1.0f : 1.0f / static_cast<float>(px.count);
+    range[p] = px.range_sum * scale;
+    intensity[p] = px.intensity_sum * scale;
+    mask[p] = px.count > 0 ? 255 : 0;
+    index[p] = px.index;
+    count[p] = px.count;
   }
   out.points_projected = projected;
 }

@@ -5,11 +5,14 @@
 namespace iilfm {
 
 const std::vector<SensorPreset>& sensor_presets() {
-  // Thresholds sit between the returns of black toner and white office paper on each sensor's
-  // intensity scale (0-255 for all of these); tune them with --threshold for other materials.
+  // Thresholds are in each sensor's own intensity units. Livox and Velodyne report calibrated
+  // diffuse reflectivity (0-100 %, higher for retro-reflectors): black toner returns about 5-10,
+  // white paper and light paint 60-90, so 40 splits print from any light surface. Hesai
+  // Pandar64's scale is offset (black print 60-85, white 110-145 in the bundled real scans).
+  // Tune with --threshold for other materials.
   static const std::vector<SensorPreset> presets = {
       {"mid40", "Livox Mid-40 (38.4 deg circular FoV, non-repetitive)", 0.05, 0.05, -19.2, 19.2,
-       -19.2, 19.2, 60},
+       -19.2, 19.2, 40},
       {"vlp16", "Velodyne VLP-16 (16 rings, 2 deg, 10 Hz)", 0.2, 2.0, -180, 180, -15, 15, 40},
       {"vlp32c", "Velodyne VLP-32C (32 non-uniform rings, 10 Hz)", 0.2, 0.333, -180, 180, -25, 15,
        40},

@@ -86,9 +86,16 @@ class SphericalProjector {
   const ProjectionOptions& options() const { return options_; }
 
  private:
+  // Everything pass 2 touches for one pixel, kept together so a scattered point order (the Livox
+  // rosette) costs one cache miss per point instead of one per image.
+  struct PixelAccumulator {
+    float range_sum, intensity_sum, best_offset;
+    std::int32_t index, count;
+  };
+
   ProjectionOptions options_;
   std::vector<float> azimuth_, elevation_, range_;
-  cv::Mat best_offset_;  // CV_32F squared distance of the indexed point to its pixel centre
+  std::vector<PixelAccumulator> pixels_;
 };
 
 }  // namespace iilfm

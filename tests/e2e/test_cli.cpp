@@ -1,0 +1,161 @@
+// The `iilfm` program as users run it: sim -> detect -> JSON, and one-line errors with exit 2.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandRun {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir() {
+  static const fs::path dir = [] {
+    fs::path d = fs::temp_directory_path() / ("iilfm_cli_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+CommandRun run(const std::string& args) {
+  const fs::path out = temp_dir() / "stdout.txt", err = temp_dir() / "stderr.txt";
+  const std::string command = std::string(IILFM_CLI_PATH) + " " + args + " >" + out.string() +
+                              " 2>" + err.string() + " </dev/null";
+  const int raw = std::system(command.c_str());
+  CommandRun r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+// Bad input: exit 2, exactly one line on stderr that names `needle`, nothing on stdout.
+void expect_input_error(const std::string& args, const std::string& needle) {
+  const CommandRun r = run(args);
+  EXPECT_EQ(r.status, 2) << args << "\n" << r.err;
+  ASSERT_FALSE(r.err.empty()) << args;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line expected: " << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << args << ": " << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST(Cli, SimThenDetectWritesTheContractJson) {
+  const fs::path d = temp_dir();
+  const std::string pcd = (d / "scan.pcd").string(), map = (d / "map.yaml").string(),
+                    truth = (d / "truth.json").string(), json = (d / "out.json").string(),
+                    png = (d / "out.png").string();
+  ASSERT_EQ(run("sim --scene tag-wall --frames 40 --seed 4 --out " + pcd + " --map " + map +
+                " --truth " + truth)
+                .status,
+            0);
+  const CommandRun r =
+      run("detect " + pcd + " --sensor mid40 --map " + map + " --json " + json + " --image " + png);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("apriltag:tag36h11 id 0"), std::string::npos) << r.out;
+  EXPECT_GT(fs::file_size(png), 1000u);
+
+  const nlohmann::json j = nlohmann::json::parse(slurp(json));
+  const nlohmann::json t = nlohmann::json::parse(slurp(truth));
+  EXPECT_EQ(j["input"]["points"], 400000);
+  EXPECT_EQ(j["image"]["res_h_deg"], 0.05);
+  ASSERT_EQ(j["markers"].size(), 1u);
+  const auto& m = j["markers"][0];
+  EXPECT_EQ(m["family"], "apriltag:tag36h11");
+  EXPECT_EQ(m["id"], 0);
+  ASSERT_EQ(m["corners_px"].size(), 4u);
+  ASSERT_EQ(m["observed"].size(), 4u);
+  ASSERT_TRUE(m["T_lidar_marker"].is_array());
+  for (int k = 0; k < 4; ++k) {
+    double err2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double e = m["corners_lidar"][k][a].get<double>() -
+                       t["markers"][0]["corners_lidar"][k][a].get<double>();
+      err2 += e * e;
+    }
+    EXPECT_LT(std::sqrt(err2), 0.01) << "corner " << k;
+  }
+  ASSERT_TRUE(j["pose"].is_object());
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), t["T_world_lidar"][a][3].get<double>(), 0.03);
+  EXPECT_EQ(j["pose"]["quat_xyzw"].size(), 4u);
+  EXPECT_EQ(j["pose"]["markers_used"][0], "apriltag:tag36h11/0");
+  for (const char* stage : {"read", "project", "preprocess", "detect", "lift", "pose", "total"})
+    EXPECT_TRUE(j["timing_ms"].contains(stage)) << stage;
+}
+
+TEST(Cli, NoMapMeansPoseNullWithAReason) {
+  const fs::path d = temp_dir();
+  const std::string pcd = (d / "nomap.pcd").string(), json = (d / "nomap.json").string();
+  ASSERT_EQ(run("sim --scene tag-wall --frames 20 --out " + pcd).status, 0);
+  ASSERT_EQ(run("detect " + pcd + " --sensor mid40 -q --json " + json).status, 0);
+  const nlohmann::json j = nlohmann::json::parse(slurp(json));
+  EXPECT_TRUE(j["pose"].is_null());
+  EXPECT_EQ(j["pose_missing_reason"], "no marker map given");
+  EXPECT_TRUE(j["markers"][0]["T_lidar_marker"].is_null());  // size unknown without map or flag
+}
+
+TEST(Cli, BadInputGivesOneLineAndExitTwo) {
+  const fs::path d = temp_dir();
+  expect_input_error("detect /nonexistent/scan.pcd --sensor mid40", "/nonexistent/scan.pcd");
+
+  const fs::path truncated = d / "truncated.pcd";
+  std::ofstream(truncated) << "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+                              "COUNT 1 1 1 1\nWIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\nabc";
+  expect_input_error("detect " + truncated.string() + " --sensor mid40", truncated.string());
+
+  const fs::path garbage = d / "garbage.pcd";
+  std::ofstream(garbage) << "this is not a point cloud\n";
+  expect_input_error("detect " + garbage.string() + " --sensor mid40", garbage.string());
+
+  const fs::path empty = d / "empty.pcd";
+  std::ofstream(empty) << "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+                          "COUNT 1 1 1 1\nWIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA ascii\n";
+  expect_input_error("detect " + empty.string() + " --sensor mid40", "no valid points");
+
+  const fs::path nans = d / "nans.pcd";
+  std::ofstream(nans) << "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+                         "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n"
+                         "nan nan nan 1\n0 0 0 5\n";
+  expect_input_error("detect " + nans.string() + " --sensor mid40", "1 non-finite, 1 zero");
+
+  const std::string good = (d / "good.pcd").string();
+  ASSERT_EQ(run("sim --scene tag-wall --frames 5 --out " + good).status, 0);
+  expect_input_error("detect " + good + " --sensor mid40 --marker apriltag:tag99h9", "tag99h9");
+  expect_input_error("detect " + good + " --sensor mid40 --marker tag36h11", "apriltag:tag36h11");
+  expect_input_error("detect " + good + " --sensor nosuch", "unknown sensor preset 'nosuch'");
+  expect_input_error("detect " + good, "--sensor");
+  expect_input_error("detect " + good + " --sensor mid40 --threshold abc", "--threshold");
+  expect_input_error("detect " + good + " --sensor mid40 --lift magic", "--lift");
+
+  const fs::path bad_map = d / "bad_map.yaml";
+  std::ofstream(bad_map) << "markers:\n  - {family: apriltag:tag36h11, id: 2, corners: "
+                            "[[0,0,0],[1,0,0],[1,1,0]]}\n";
+  expect_input_error("detect " + good + " --sensor mid40 --map " + bad_map.string(), "marker #1");
+  expect_input_error("detect " + good + " --sensor mid40 --no-such-flag", "--no-such-flag");
+  expect_input_error("sim --sensor nosuch --out " + (d / "x.pcd").string(), "nosuch");
+}
+
+TEST(Cli, SensorsListsThePresets) {
+  const CommandRun r = run("sensors");
+  EXPECT_EQ(r.status, 0);
+  for (const char* name : {"mid40", "vlp16", "vlp32c", "ultrapuck"})
+    EXPECT_NE(r.out.find(name), std::string::npos) << name;
+}
+
+}  // namespace
