@@ -104,6 +104,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     filled_mask = image.mask;
   }
 
+  filled_mask.copyTo(out.valid);
   out.intensity_scale = robust_max(image.intensity, image.mask);
   filled.convertTo(out.gray, CV_8U, 255.0 / out.intensity_scale);
   out.gray.setTo(options.unobserved_value, filled_mask == 0);

@@ -23,7 +23,7 @@ cv::Mat draw_overlay(const FrameResult& result) {
 
   cv::Mat color;
   cv::cvtColor(gray, color, cv::COLOR_GRAY2BGR);
-  color.setTo(cv::Scalar(40, 90, 40), result.image.mask == 0);
+  color.setTo(cv::Scalar(40, 90, 40), result.preprocessed.valid == 0);
   cv::Mat canvas;
   cv::resize(color, canvas, cv::Size(), sx, sy, cv::INTER_NEAREST);
 
@@ -48,10 +48,15 @@ cv::Mat draw_overlay(const FrameResult& result) {
     }
     Vec2 centre = Vec2::Zero();
     for (const Vec2& px : c) centre += px / static_cast<double>(n);
-    const std::string label = m.detection.family.substr(m.detection.family.find(':') + 1) + " #" +
-                              std::to_string(m.detection.id);
-    cv::putText(canvas, label, to_canvas(centre) + cv::Point2d(-20, 0), cv::FONT_HERSHEY_SIMPLEX,
-                0.5, cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
+    const std::string label = "#" + std::to_string(m.detection.id);
+    const double size = std::clamp((to_canvas(c[1]) - to_canvas(c[0])).x / 60.0, 0.4, 1.5);
+    int baseline = 0;
+    const cv::Size text = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, size, 2, &baseline);
+    const cv::Point2d at = to_canvas(centre) - cv::Point2d(text.width / 2.0, -text.height / 2.0);
+    cv::putText(canvas, label, at, cv::FONT_HERSHEY_SIMPLEX, size, cv::Scalar(255, 255, 255), 4,
+                cv::LINE_AA);
+    cv::putText(canvas, label, at, cv::FONT_HERSHEY_SIMPLEX, size, cv::Scalar(0, 0, 220), 2,
+                cv::LINE_AA);
   }
   return canvas;
 }

@@ -23,6 +23,7 @@ struct PreprocessOptions {
 struct PreprocessedImage {
   cv::Mat gray;                // CV_8U intensity scaled to 0..255 (for display), holes filled
   cv::Mat detect;              // CV_8U image handed to the detectors (binary unless binarize=false)
+  cv::Mat valid;               // CV_8U 255 where observed or filled, 0 where still unobserved
   double threshold = 0;        // threshold applied, in intensity units
   double intensity_scale = 0;  // intensity mapped to gray 255
 };

@@ -1,6 +1,7 @@
 // Named scenes: the paper's single-tag and grid set-ups, and LiDARTag's ccw_10m benchmark.
 #include "iilfm/sim/scenes.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "iilfm/error.hpp"
@@ -50,18 +51,20 @@ SceneSetup grid(const SceneParams& p) {
   const int first_id = p.id.value_or(0);
   const MarkerTexture texture = render_marker_texture(family, first_id);
   const double pitch = 1.16 * size * texture.total_width / texture.width_at_border;
+  // Centred high enough that the bottom row's sheets clear the floor at z = 0.
+  const double centre_z = std::max(kPaperTagZ, (kRows / 2.0) * pitch + 0.05);
   std::vector<MarkerSpec> markers;
   for (int row = 0; row < kRows; ++row) {
     for (int col = 0; col < kColumns; ++col) {
       const double y = ((kColumns - 1) / 2.0 - col) * pitch;  // columns run to the viewer's right
-      const double z = kPaperTagZ + ((kRows - 1) / 2.0 - row) * pitch;
+      const double z = centre_z + ((kRows - 1) / 2.0 - row) * pitch;
       markers.push_back(
           wall_marker(family, first_id + row * kColumns + col, size, kPaperWallX, y, z));
     }
   }
   SceneSetup setup;
   setup.scene = wall_scene(markers, kPaperWallX);
-  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, kPaperTagZ));
+  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, centre_z));
   setup.sensor = "mid40";
   return setup;
 }
