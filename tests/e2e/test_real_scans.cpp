@@ -1,0 +1,86 @@
+// Real recorded scans (../shared/data/real, see its SOURCES.md): read them, project them, and
+// report no marker where none is printed. Skipped when the data is not beside the checkout.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "iilfm/io/cloud_io.hpp"
+#include "iilfm/pipeline.hpp"
+#include "iilfm/sensor.hpp"
+
+namespace iilfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kRealData = fs::path(IILFM_SOURCE_DIR) / ".." / "shared" / "data" / "real";
+
+std::vector<fs::path> pandar64_scans() {
+  std::vector<fs::path> scans;
+  for (const char* folder : {"opencalib_jointcalib_pandar64", "opencalib_factory_pandar64"}) {
+    if (!fs::is_directory(kRealData / folder)) continue;
+    for (const auto& entry : fs::directory_iterator(kRealData / folder))
+      if (entry.path().extension() == ".pcd") scans.push_back(entry.path());
+  }
+  std::sort(scans.begin(), scans.end());
+  return scans;
+}
+
+PipelineOptions pandar64_options(std::vector<std::string> families) {
+  const SensorPreset& preset = find_sensor_preset("pandar64");
+  PipelineOptions options;
+  options.projection.res_h_deg = preset.res_h_deg;
+  options.projection.res_v_deg = preset.res_v_deg;
+  options.preprocess.threshold = preset.threshold;
+  options.families = std::move(families);
+  return options;
+}
+
+// The calibration boards carry a checkerboard and high-contrast rings, no coded marker: every
+// AprilTag family must stay silent on all 11 frames.
+TEST(RealScans, Pandar64ScansReportNoMarker) {
+  const auto scans = pandar64_scans();
+  if (scans.empty()) GTEST_SKIP() << "no real data at " << kRealData;
+  Pipeline pipeline(pandar64_options({"apriltag:tag36h11", "apriltag:tag25h9", "apriltag:tag16h5",
+                                      "apriltag:tagStandard41h12", "apriltag:tagCircle21h7"}));
+  for (const fs::path& scan : scans) {
+    const io::LoadedCloud loaded = io::read_cloud(scan.string());
+    ASSERT_GT(loaded.cloud.size(), 100000u) << scan;
+    const FrameResult& r = pipeline.process(loaded.cloud);
+    EXPECT_EQ(r.markers.size(), 0u) << scan;
+    // A 360-degree scan at 0.2 deg: 1801 columns; rows cover the 64 rings' elevation span.
+    EXPECT_EQ(r.image.geometry.width, 1801) << scan;
+    EXPECT_GT(cv::countNonZero(r.image.mask), 60000) << scan;
+  }
+}
+
+// The joint-calibration board faces the sensor 3.33 m ahead (SOURCES.md): its points must project
+// into the image centre, not mirrored to the other side or upside down.
+TEST(RealScans, Pandar64BoardProjectsStraightAhead) {
+  const fs::path scan = kRealData / "opencalib_jointcalib_pandar64" / "2022-01-18-15-25-03-449.pcd";
+  if (!fs::exists(scan)) GTEST_SKIP() << "no real data at " << scan;
+  const io::LoadedCloud loaded = io::read_cloud(scan.string());
+  ProjectedImage image;
+  SphericalProjector(pandar64_options({}).projection).project(loaded.cloud, image);
+  const ImageGeometry& g = image.geometry;
+  // A point on the board, ahead and a little to the left (+y) and below the sensor.
+  const Vec2 ahead = g.pixel_of_point(Vec3(3.33, 0.3, -0.2));
+  EXPECT_NEAR(ahead.x(), (g.width - 1) / 2.0 - 0.3 / 3.33 * 180 / M_PI / 0.2, 2.0);
+  const Vec2 higher = g.pixel_of_point(Vec3(3.33, 0.3, 0.3));
+  EXPECT_LT(higher.y(), ahead.y());
+  // Points at the board's distance really are there in the range image around that pixel.
+  int near_board = 0;
+  for (int dr = -3; dr <= 3; ++dr)
+    for (int dc = -3; dc <= 3; ++dc) {
+      const int r = static_cast<int>(std::lround(ahead.y())) + dr;
+      const int c = static_cast<int>(std::lround(ahead.x())) + dc;
+      if (g.contains_pixel(c, r) && image.observed(c, r) &&
+          std::abs(image.range.at<float>(r, c) - 3.35) < 0.15)
+        ++near_board;
+    }
+  EXPECT_GT(near_board, 5);
+}
+
+}  // namespace
+}  // namespace iilfm
