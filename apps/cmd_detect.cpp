@@ -34,6 +34,8 @@ struct DetectArgs {
   double blur = 0;
   bool gray_input = false;
   float decimate = 1;
+  float quad_sigma = 0;
+  bool no_refine_edges = false;
   int threads = 1;
   int max_hamming = -1;
   std::string json_path, image_path;
@@ -129,6 +131,8 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
 
   if (!args.markers.empty()) options.families = args.markers;
   options.detector.apriltag.decimate = args.decimate;
+  options.detector.apriltag.sigma = args.quad_sigma;
+  options.detector.apriltag.refine_edges = !args.no_refine_edges;
   options.detector.apriltag.threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
   if (args.marker_size > 0) options.marker_size = args.marker_size;
@@ -226,8 +230,12 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");
   cmd->add_flag("--gray", args->gray_input, "Give detectors the gray image, not the binary one");
-  cmd->add_option("--decimate", args->decimate, "AprilTag quad decimation");
-  cmd->add_option("--threads", args->threads, "AprilTag threads");
+  cmd->add_option("--decimate", args->decimate, "AprilTag quad decimation (default 1)")
+      ->check(CLI::Range(1.0, 8.0));
+  cmd->add_option("--quad-sigma", args->quad_sigma, "AprilTag segmentation blur sigma (pixels)")
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->add_flag("--no-refine-edges", args->no_refine_edges, "AprilTag: do not refine quad edges");
+  cmd->add_option("--threads", args->threads, "AprilTag threads")->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
