@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "fast_math.hpp"
 #include "iilfm/error.hpp"
 
 namespace iilfm {
@@ -76,20 +77,26 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
   elevation_.resize(n);
   range_.resize(n);
 
-  // Pass 1: spherical coordinates (paper Eq. 1) and the cloud's angular extent.
-  AngularBounds extent{std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
-                       std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest()};
+  // Pass 1: spherical coordinates (paper Eq. 1) and the cloud's angular extent, in a loop the
+  // compiler can vectorise.
+  const float* xs = cloud.x.data();
+  const float* ys = cloud.y.data();
+  const float* zs = cloud.z.data();
+  float az_min = 10, az_max = -10, el_min = 10, el_max = -10;
   for (std::size_t i = 0; i < n; ++i) {
-    const float x = cloud.x[i], y = cloud.y[i], z = cloud.z[i];
-    const float horizontal = std::sqrt(x * x + y * y);
-    azimuth_[i] = std::atan2(y, x);
-    elevation_[i] = std::atan2(z, horizontal);
-    range_[i] = std::sqrt(horizontal * horizontal + z * z);
-    extent.azimuth_min = std::min<double>(extent.azimuth_min, azimuth_[i]);
-    extent.azimuth_max = std::max<double>(extent.azimuth_max, azimuth_[i]);
-    extent.elevation_min = std::min<double>(extent.elevation_min, elevation_[i]);
-    extent.elevation_max = std::max<double>(extent.elevation_max, elevation_[i]);
+    const float x = xs[i], y = ys[i], z = zs[i];
+    const float horizontal_sq = x * x + y * y;
+    const float az = detail::fast_atan2(y, x);
+    const float el = detail::fast_atan2(z, std::sqrt(horizontal_sq));
+    azimuth_[i] = az;
+    elevation_[i] = el;
+    range_[i] = std::sqrt(horizontal_sq + z * z);
+    az_min = std::min(az_min, az);
+    az_max = std::max(az_max, az);
+    el_min = std::min(el_min, el);
+    el_max = std::max(el_max, el);
   }
+  AngularBounds extent{az_min, az_max, el_min, el_max};
   if (n == 0) extent = AngularBounds{};
 
   AngularBounds bounds = extent;
@@ -112,10 +119,12 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
 
   // Pass 2: bin every point (paper Eq. 2 with the non-mirrored orientation).
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
+  const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
+  const float inv_res_h = static_cast<float>(1 / res_h), inv_res_v = static_cast<float>(1 / res_v);
   std::size_t projected = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (range_[i] <= 0) continue;
-    const double u = g.u0 - azimuth_[i] / res_h, v = g.v0 - elevation_[i] / res_v;
+    const float u = u0 - azimuth_[i] * inv_res_h, v = v0 - elevation_[i] * inv_res_v;
     const long col = std::lround(u), row = std::lround(v);
     if (col < 0 || row < 0 || col >= g.width || row >= g.height) continue;
     PixelAccumulator& px = pixels_[static_cast<std::size_t>(row) * g.width + col];

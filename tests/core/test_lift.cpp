@@ -48,7 +48,7 @@ TEST(LiftPaper, AngleBisectorRuleMatchesTheHandComputedPlanePoint) {
     const LiftedCorner c = lift_paper(px, scene.image);
     ASSERT_EQ(c.status, hole < 0 ? CornerStatus::kObserved : CornerStatus::kInterpolated);
     const Vec3 truth = scene.hit(scene.image.geometry.ray(px));
-    EXPECT_LT((c.point - truth).norm(), 2e-6) << "hole " << hole;
+    EXPECT_LT((c.point - truth).norm(), 1e-5) << "hole " << hole;  // float32 cloud: ~1 ppm
 
     if (hole == 4) {
       // The paper's printed weights (mu/(1+mu) on p_d) land off the plane point by millimetres
