@@ -121,12 +121,16 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
   const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
   const float inv_res_h = static_cast<float>(1 / res_h), inv_res_v = static_cast<float>(1 / res_v);
+  const float u_end = static_cast<float>(g.width) - 0.5f,
+              v_end = static_cast<float>(g.height) - 0.5f;
   std::size_t projected = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (range_[i] <= 0) continue;
     const float u = u0 - azimuth_[i] * inv_res_h, v = v0 - elevation_[i] * inv_res_v;
-    const long col = std::lround(u), row = std::lround(v);
-    if (col < 0 || row < 0 || col >= g.width || row >= g.height) continue;
+    if (!(u >= -0.5f && v >= -0.5f && u < u_end && v < v_end)) continue;
+    // Both are >= -0.5 here, so truncation of x + 0.5 rounds to nearest without a libm call.
+    const int col = static_cast<int>(u + 0.5f), row = static_cast<int>(v + 0.5f);
+    if (col >= g.width || row >= g.height) continue;
     PixelAccumulator& px = pixels_[static_cast<std::size_t>(row) * g.width + col];
     const float du = static_cast<float>(u - col), dv = static_cast<float>(v - row);
     const float offset = du * du + dv * dv;
