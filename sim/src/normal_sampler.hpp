@@ -35,4 +35,15 @@ class NormalSampler {
   bool has_spare_ = false;
 };
 
+// Uniform numbers in [0, 1) from their own std::mt19937_64 stream, for the optional effects
+// (dropouts, invalid points), so switching those on leaves every beam's noise unchanged.
+class UniformSampler {
+ public:
+  explicit UniformSampler(std::uint64_t seed) : engine_(seed ^ 0x9e3779b97f4a7c15ull) {}
+  double next() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
 }  // namespace iilfm::sim

@@ -70,7 +70,7 @@ bool SceneRaycaster::intersect(const Rectangle& r, const Vec3& direction, bool f
   return true;
 }
 
-float SceneRaycaster::sheet_intensity(const Sheet& sheet, double local_x, double local_y) const {
+bool SceneRaycaster::on_black_cell(const Sheet& sheet, double local_x, double local_y) const {
   const MarkerTexture& texture = textures_[sheet.texture];
   const int last = texture.total_width - 1;
   // Image column grows to the marker's right, row grows downwards from the top edge.
@@ -78,7 +78,7 @@ float SceneRaycaster::sheet_intensity(const Sheet& sheet, double local_x, double
   int row = static_cast<int>(std::floor(0.5 * texture.total_width - local_y / sheet.cell_m));
   col = col < 0 ? 0 : (col > last ? last : col);  // a hit exactly on the outer edge
   row = row < 0 ? 0 : (row > last ? last : row);
-  return texture.is_black(row, col) ? black_ : white_;
+  return texture.is_black(row, col);
 }
 
 bool SceneRaycaster::cast(const Vec3& direction, RayHit* hit) const {
@@ -93,13 +93,15 @@ bool SceneRaycaster::cast(const Vec3& direction, RayHit* hit) const {
   }
   hit->marker = -1;
   hit->in_black_square = false;
+  hit->on_black_print = false;
   for (std::size_t i = 0; i < sheets_.size(); ++i) {
     const Sheet& sheet = sheets_[i];
     if (direction.dot(sheet.towards_centre) < sheet.cos_cone) continue;
     if (intersect(sheet.rect, direction, true, &range, &lx, &ly) &&
         range < best + kFlushTolerance) {
       best = std::min(best, range);
-      hit->intensity = sheet_intensity(sheet, lx, ly);
+      hit->on_black_print = on_black_cell(sheet, lx, ly);
+      hit->intensity = hit->on_black_print ? black_ : white_;
       hit->marker = static_cast<int>(i);
       hit->in_black_square =
           std::abs(lx) <= sheet.half_black_m && std::abs(ly) <= sheet.half_black_m;

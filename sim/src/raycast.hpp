@@ -15,6 +15,7 @@ struct RayHit {
   float intensity = 0;
   int marker = -1;               // index into Scene::markers when the ray hit a printed sheet
   bool in_black_square = false;  // inside the marker's outer black square
+  bool on_black_print = false;   // landed on a black cell of a printed marker
 };
 
 class SceneRaycaster {
@@ -42,7 +43,7 @@ class SceneRaycaster {
   // Ray parameter and in-plane coordinates of a hit on `r`, or false when the ray misses it.
   static bool intersect(const Rectangle& r, const Vec3& direction, bool front_only, double* range,
                         double* local_x, double* local_y);
-  float sheet_intensity(const Sheet& sheet, double local_x, double local_y) const;
+  bool on_black_cell(const Sheet& sheet, double local_x, double local_y) const;
 
   std::vector<Rectangle> walls_;
   std::vector<float> wall_reflectivity_;

@@ -8,13 +8,53 @@
 namespace iilfm::sim {
 namespace {
 
-constexpr double kSpinningAzimuthStepDeg = 0.2;  // 600 rpm = 10 Hz sweeps
+constexpr double kVelodyneAzimuthStepDeg = 0.2;  // 600 rpm = 10 Hz sweeps
 constexpr double kSpinningFrameRateHz = 10;
+constexpr double kVelodyneDivergenceDeg = 0.17;  // 3 mrad
+constexpr double kOusterDivergenceDeg = 0.18;    // OS1 data sheet, FWHM
 
 // A spinning sensor fires every ring once per azimuth column.
-double spinning_points_per_second(std::size_t rings) {
-  const double columns = std::round(360.0 / kSpinningAzimuthStepDeg);
+double spinning_points_per_second(std::size_t rings, double azimuth_step_deg) {
+  const double columns = std::round(360.0 / azimuth_step_deg);
   return static_cast<double>(rings) * columns * kSpinningFrameRateHz;
+}
+
+SensorModel spinning(const std::string& name, std::vector<double> rings_deg, double step_deg) {
+  SensorModel s;
+  s.name = name;
+  s.pattern = ScanPattern::kSpinning;
+  s.ring_elevations_deg = std::move(rings_deg);
+  s.azimuth_step_deg = step_deg;
+  s.frame_rate_hz = kSpinningFrameRateHz;
+  s.points_per_second = spinning_points_per_second(s.ring_elevations_deg.size(), step_deg);
+  return s;
+}
+
+std::vector<double> uniform_rings(int count, double lowest_deg, double highest_deg) {
+  std::vector<double> rings;
+  for (int r = 0; r < count; ++r) {
+    rings.push_back(lowest_deg + (highest_deg - lowest_deg) * r / (count - 1));
+  }
+  return rings;
+}
+
+SensorModel velodyne(const std::string& name, std::vector<double> rings_deg) {
+  SensorModel s = spinning(name, std::move(rings_deg), kVelodyneAzimuthStepDeg);
+  s.range_sigma_m = 0.03;
+  s.min_range_m = 0.5;
+  s.divergence_h_deg = s.divergence_v_deg = kVelodyneDivergenceDeg;
+  return s;
+}
+
+// Ouster OS1: 45 deg of uniformly spaced rings, columns set by the lidar mode (1024 or 2048 a
+// sweep at 10 Hz), +-3 cm precision at short range, 0.3 m minimum range (Rev 7 data sheet).
+SensorModel os1(const std::string& name, int rings, int columns) {
+  SensorModel s = spinning(name, uniform_rings(rings, -22.5, 22.5), 360.0 / columns);
+  s.range_sigma_m = 0.03;
+  s.min_range_m = 0.3;
+  s.max_range_m = 120;
+  s.divergence_h_deg = s.divergence_v_deg = kOusterDivergenceDeg;
+  return s;
 }
 
 }  // namespace
@@ -29,47 +69,48 @@ SensorModel mid40() {
   s.min_range_m = 1.0;
   s.max_range_m = 260;
   s.fov_deg = 38.4;
+  s.divergence_h_deg = 0.03;  // data sheet: 0.28 deg (vertical) x 0.03 deg (horizontal)
+  s.divergence_v_deg = 0.28;
   return s;
 }
 
 SensorModel vlp16() {
-  SensorModel s;
-  s.name = "vlp16";
-  s.pattern = ScanPattern::kSpinning;
-  for (int ring = 0; ring < 16; ++ring) s.ring_elevations_deg.push_back(-15.0 + 2.0 * ring);
-  s.azimuth_step_deg = kSpinningAzimuthStepDeg;
-  s.frame_rate_hz = kSpinningFrameRateHz;
-  s.points_per_second = spinning_points_per_second(s.ring_elevations_deg.size());
-  s.range_sigma_m = 0.03;
-  s.min_range_m = 0.5;
+  SensorModel s = velodyne("vlp16", uniform_rings(16, -15, 15));
+  s.max_range_m = 100;
+  return s;
+}
+
+SensorModel vlp16_hires() {
+  SensorModel s = velodyne("vlp16-hires", uniform_rings(16, -10, 10));
   s.max_range_m = 100;
   return s;
 }
 
 SensorModel ultra_puck() {
-  SensorModel s;
-  s.name = "ultrapuck";
-  s.pattern = ScanPattern::kSpinning;
   // VLP-32C / ULTRA Puck laser elevations sorted from the lowest beam up (denser near horizon).
-  s.ring_elevations_deg = {-25,    -15.639, -11.31, -8.843, -7.254, -6.148, -5.333, -4.667,
-                           -4,     -3.667,  -3.333, -3,     -2.667, -2.333, -2,     -1.667,
-                           -1.333, -1,      -0.667, -0.333, 0,      0.333,  0.667,  1,
-                           1.333,  1.667,   2.333,  3.333,  4.667,  7,      10.333, 15};
-  s.azimuth_step_deg = kSpinningAzimuthStepDeg;
-  s.frame_rate_hz = kSpinningFrameRateHz;
-  s.points_per_second = spinning_points_per_second(s.ring_elevations_deg.size());
-  s.range_sigma_m = 0.03;
-  s.min_range_m = 0.5;
+  SensorModel s =
+      velodyne("ultrapuck", {-25,    -15.639, -11.31, -8.843, -7.254, -6.148, -5.333, -4.667,
+                             -4,     -3.667,  -3.333, -3,     -2.667, -2.333, -2,     -1.667,
+                             -1.333, -1,      -0.667, -0.333, 0,      0.333,  0.667,  1,
+                             1.333,  1.667,   2.333,  3.333,  4.667,  7,      10.333, 15});
   s.max_range_m = 200;
   return s;
 }
 
-std::vector<std::string> sensor_model_names() { return {"mid40", "vlp16", "ultrapuck"}; }
+SensorModel os1_64() { return os1("os1-64", 64, 1024); }
+SensorModel os1_128() { return os1("os1-128", 128, 2048); }
+
+std::vector<std::string> sensor_model_names() {
+  return {"mid40", "vlp16", "ultrapuck", "vlp16-hires", "os1-64", "os1-128"};
+}
 
 SensorModel sensor_model(const std::string& name) {
   if (name == "mid40") return mid40();
   if (name == "vlp16") return vlp16();
   if (name == "ultrapuck") return ultra_puck();
+  if (name == "vlp16-hires") return vlp16_hires();
+  if (name == "os1-64") return os1_64();
+  if (name == "os1-128") return os1_128();
   std::string known;
   for (const std::string& n : sensor_model_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown simulated sensor '" + name + "' (known: " + known + ")");

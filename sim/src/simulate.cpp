@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
+#include "footprint.hpp"
 #include "iilfm/error.hpp"
 #include "normal_sampler.hpp"
 #include "raycast.hpp"
@@ -27,6 +30,14 @@ void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOption
   if (sensor.pattern == ScanPattern::kSpinning &&
       (sensor.ring_elevations_deg.empty() || !(sensor.azimuth_step_deg > 0))) {
     throw InputError("spinning sensor '" + sensor.name + "' needs rings and an azimuth step");
+  }
+  auto probability = [](double p) { return p >= 0 && p <= 1; };
+  if (options.footprint && options.footprint_samples < 1) {
+    throw InputError("footprint needs at least one sub-ray, got " +
+                     std::to_string(options.footprint_samples));
+  }
+  if (!probability(options.dark_dropout) || !probability(options.invalid_fraction)) {
+    throw InputError("dark dropout and invalid fraction must be probabilities in [0, 1]");
   }
   for (const MarkerSpec& m : scene.markers) {
     if (!(m.size_m > 0)) {
@@ -58,9 +69,18 @@ Vec3 jittered(const Vec3& d, double sigma_rad, NormalSampler& normal) {
   return (d + a * e1 + b * e2).normalized();
 }
 
+// The sensor with the options' overrides applied.
+SensorModel effective_sensor(const SensorModel& sensor, const SimOptions& options) {
+  SensorModel s = sensor;
+  if (options.min_range_m >= 0) s.min_range_m = options.min_range_m;
+  return s;
+}
+
 }  // namespace
 
-GroundTruth ground_truth(const Scene& scene, const SensorModel& sensor, const SimOptions& options) {
+GroundTruth ground_truth(const Scene& scene, const SensorModel& nominal,
+                         const SimOptions& options) {
+  const SensorModel sensor = effective_sensor(nominal, options);
   GroundTruth truth;
   truth.sensor = sensor.name;
   truth.T_world_lidar = options.T_world_lidar;
@@ -91,19 +111,34 @@ GroundTruth ground_truth(const Scene& scene, const SensorModel& sensor, const Si
   return truth;
 }
 
-SimResult simulate(const Scene& scene, const SensorModel& sensor, const SimOptions& options) {
-  check_inputs(scene, sensor, options);
+SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOptions& options) {
+  check_inputs(scene, nominal, options);
+  const SensorModel sensor = effective_sensor(nominal, options);
   SimResult result;
   result.truth = ground_truth(scene, sensor, options);
   const double range_sigma = result.truth.range_sigma_m;
+  const double intensity_sigma =
+      options.intensity_sigma < 0 ? sensor.intensity_sigma : options.intensity_sigma;
   const double angle_sigma = options.angle_sigma_deg * kDegToRad;
   const bool spinning = sensor.pattern == ScanPattern::kSpinning;
 
   const SceneRaycaster raycaster(scene, options.T_world_lidar.inverse());
+  std::optional<BeamFootprint> footprint;
+  if (options.footprint) footprint.emplace(sensor, options.footprint_samples);
   NormalSampler normal(options.seed);
+  UniformSampler uniform(options.seed);
   PointCloud& cloud = result.cloud;
   cloud.reserve(static_cast<std::size_t>(points_per_frame(sensor)) * options.frames, spinning,
                 true);
+  auto emit = [&](const Vec3& p, double intensity, const Beam& beam) {
+    cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()),
+                    static_cast<float>(intensity));
+    cloud.time.push_back(beam.time);
+    if (spinning) cloud.ring.push_back(beam.ring);
+  };
+  const Vec3 invalid_point = options.invalid_as == SimOptions::Invalid::kNaN
+                                 ? Vec3::Constant(std::numeric_limits<double>::quiet_NaN())
+                                 : Vec3::Zero();
 
   std::vector<Beam> beams;
   RayHit hit;
@@ -113,18 +148,28 @@ SimResult simulate(const Scene& scene, const SensorModel& sensor, const SimOptio
       // Every beam draws the same numbers whether or not it returns, so a seed means the same
       // noise per beam whatever the scene.
       const double range_noise = range_sigma * normal.next();
-      const double intensity_noise = options.intensity_sigma * normal.next();
+      const double intensity_noise = intensity_sigma * normal.next();
       const Vec3 cast_direction =
           angle_sigma > 0 ? jittered(beam.direction, angle_sigma, normal) : beam.direction;
+      const bool invalid =
+          options.invalid_fraction > 0 && uniform.next() < options.invalid_fraction;
+      const double dropout_draw = options.dark_dropout > 0 ? uniform.next() : 1.0;
+      if (invalid) {
+        emit(invalid_point, 0, beam);
+        continue;
+      }
       if (!raycaster.cast(cast_direction, &hit)) continue;
       const double range = hit.range + range_noise;
       if (range < sensor.min_range_m || range > sensor.max_range_m) continue;
-      const Vec3 p = range * beam.direction;
-      cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                      static_cast<float>(p.z()),
-                      static_cast<float>(std::max(0.0, hit.intensity + intensity_noise)));
-      cloud.time.push_back(beam.time);
-      if (spinning) cloud.ring.push_back(beam.ring);
+      double intensity = hit.intensity;
+      double black_fraction = hit.on_black_print ? 1 : 0;
+      if (footprint) {
+        const FootprintReturn spot = footprint->cast(raycaster, cast_direction);
+        intensity = spot.intensity;
+        black_fraction = spot.black_fraction;
+      }
+      if (dropout_draw < options.dark_dropout * black_fraction) continue;
+      emit(range * beam.direction, std::max(0.0, intensity + intensity_noise), beam);
       if (hit.in_black_square) ++result.truth.markers[hit.marker].points_on_marker;
     }
   }

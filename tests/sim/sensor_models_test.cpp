@@ -41,6 +41,36 @@ TEST(SensorModels, UltraPuckHas32RisingRingsFromMinus25To15) {
   EXPECT_EQ(points_per_frame(s), 32 * 1800);
 }
 
+TEST(SensorModels, Vlp16HiResHas16RingsOf1Point33DegreesInPlusMinus10) {
+  const SensorModel s = vlp16_hires();
+  ASSERT_EQ(s.ring_elevations_deg.size(), 16u);
+  EXPECT_DOUBLE_EQ(s.ring_elevations_deg.front(), -10);
+  EXPECT_DOUBLE_EQ(s.ring_elevations_deg.back(), 10);
+  EXPECT_NEAR(s.ring_elevations_deg[1] - s.ring_elevations_deg[0], 1.333, 0.001);
+  EXPECT_EQ(points_per_frame(s), 16 * 1800);
+}
+
+TEST(SensorModels, OusterOs1HasUniformRingsOver45DegreesAndItsColumns) {
+  const SensorModel s64 = os1_64(), s128 = os1_128();
+  ASSERT_EQ(s64.ring_elevations_deg.size(), 64u);
+  ASSERT_EQ(s128.ring_elevations_deg.size(), 128u);
+  EXPECT_DOUBLE_EQ(s64.ring_elevations_deg.front(), -22.5);
+  EXPECT_DOUBLE_EQ(s64.ring_elevations_deg.back(), 22.5);
+  EXPECT_NEAR(s128.ring_elevations_deg[1] - s128.ring_elevations_deg[0], 45.0 / 127, 1e-9);
+  EXPECT_EQ(points_per_frame(s64), 64 * 1024);
+  EXPECT_EQ(points_per_frame(s128), 128 * 2048);
+}
+
+TEST(SensorModels, DivergenceFromTheDataSheets) {
+  EXPECT_DOUBLE_EQ(mid40().divergence_v_deg, 0.28);
+  EXPECT_DOUBLE_EQ(mid40().divergence_h_deg, 0.03);
+  EXPECT_DOUBLE_EQ(vlp16().divergence_h_deg, 0.17);
+  EXPECT_DOUBLE_EQ(ultra_puck().divergence_v_deg, 0.17);
+  for (const std::string& name : sensor_model_names()) {
+    EXPECT_DOUBLE_EQ(sensor_model(name).intensity_sigma, 4) << name;
+  }
+}
+
 TEST(SensorModels, LookupByNameAndUnknownNamesListTheKnownOnes) {
   for (const std::string& name : sensor_model_names()) EXPECT_EQ(sensor_model(name).name, name);
   try {

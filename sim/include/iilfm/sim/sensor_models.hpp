@@ -12,20 +12,27 @@ enum class ScanPattern {
 };
 
 struct SensorModel {
-  std::string name;  // "mid40", "vlp16", "ultrapuck"
+  std::string name;  // "mid40", "vlp16", "vlp16-hires", "ultrapuck", "os1-64", "os1-128"
   ScanPattern pattern = ScanPattern::kRosette;
   double points_per_second = 0;
   double frame_rate_hz = 10;
-  double range_sigma_m = 0;  // default 1-sigma range noise along the beam
+  double range_sigma_m = 0;    // default 1-sigma range noise along the beam
+  double intensity_sigma = 4;  // default additive intensity noise (same units as the print)
   double min_range_m = 0, max_range_m = 0;
   double fov_deg = 0;                       // rosette: full cone angle (Mid-40: 38.4)
   std::vector<double> ring_elevations_deg;  // spinning: index = ring number, ring 0 lowest
   double azimuth_step_deg = 0;              // spinning: column step
+  // Full beam divergence across (horizontal, along the azimuth) and up (vertical): the footprint
+  // a return's intensity is averaged over when SimOptions::footprint is on.
+  double divergence_h_deg = 0, divergence_v_deg = 0;
 };
 
-SensorModel mid40();       // Livox Mid-40: 38.4 deg circular FoV, 100k pts/s, sigma 0.02 m
-SensorModel vlp16();       // Velodyne VLP-16: 16 rings -15..+15 deg, 0.2 deg columns, sigma 0.03 m
-SensorModel ultra_puck();  // Velodyne ULTRA Puck / VLP-32C: 32 non-uniform rings, 0.2 deg columns
+SensorModel mid40();        // Livox Mid-40: 38.4 deg circular FoV, 100k pts/s, sigma 0.02 m
+SensorModel vlp16();        // Velodyne VLP-16: 16 rings -15..+15 deg, 0.2 deg columns, sigma 0.03 m
+SensorModel vlp16_hires();  // Velodyne VLP-16 Hi-Res (Puck Hi-Res): 16 rings -10..+10 deg, 1.33 deg
+SensorModel ultra_puck();   // Velodyne ULTRA Puck / VLP-32C: 32 non-uniform rings, 0.2 deg columns
+SensorModel os1_64();       // Ouster OS1-64: 64 uniform rings over 45 deg, 1024 columns
+SensorModel os1_128();      // Ouster OS1-128: 128 uniform rings over 45 deg, 2048 columns
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);

@@ -17,11 +17,25 @@ struct SimOptions {
   Isometry3 T_world_lidar = Isometry3::Identity();  // the LiDAR's pose in the world
   int frames = 1;  // integrated frames (rosette: consecutive 0.1 s; spinning: repeated sweeps)
   std::uint64_t seed = 1;
-  double range_sigma_m = -1;   // < 0: the sensor's default; 0 disables
-  double intensity_sigma = 4;  // additive intensity noise, result clamped to >= 0
+  double range_sigma_m = -1;    // < 0: the sensor's default; 0 disables
+  double intensity_sigma = -1;  // additive intensity noise, result clamped to >= 0; < 0: sensor's
   // Beam direction jitter: the range and intensity come from a jittered ray while the point is
   // reported along the nominal direction, as an encoder or beam-divergence error would.
   double angle_sigma_deg = 0;
+
+  // Beam footprint: the returned intensity is the mean over a grid of sub-rays spread across the
+  // sensor's divergence (a sub-ray that hits nothing adds 0), so a beam straddling a black-white
+  // edge returns grey, as real mixed returns do. The range still comes from the beam's centre.
+  bool footprint = false;
+  int footprint_samples = 5;  // sub-rays along the footprint's longer axis (>= 1)
+  // Probability that a return is lost when its whole footprint lies on black print (scaled by the
+  // black fraction of the footprint): dark, absorbing ink returns too little light.
+  double dark_dropout = 0;
+  double min_range_m = -1;  // < 0: the sensor's; returns closer than this are dropped
+  // Fraction of beams written as invalid points, as drivers of organised clouds emit for lost
+  // returns: NaN coordinates or (0, 0, 0), intensity 0.
+  double invalid_fraction = 0;
+  enum class Invalid { kNaN, kZero } invalid_as = Invalid::kNaN;
 };
 
 struct MarkerTruth {
@@ -49,8 +63,10 @@ struct SimResult {
   GroundTruth truth;
 };
 
-// Deterministic for a given seed. InputError for an unknown family, an id outside the family,
-// a non-positive size, or frames < 1.
+// Deterministic for a given seed. The range, intensity and angle noise of every beam is the same
+// whatever the footprint, dropout and invalid-point options (those draw from a second stream).
+// InputError for an unknown family, an id outside the family, a non-positive size, frames < 1, or
+// options out of range (footprint_samples < 1, probabilities outside [0, 1]).
 SimResult simulate(const Scene& scene, const SensorModel& sensor, const SimOptions& options);
 
 // The ground truth alone (no ray casting); simulate() fills points_on_marker on top of it.
