@@ -13,5 +13,6 @@ using Runner = std::function<int()>;
 Runner register_detect_command(CLI::App& app);
 Runner register_sim_command(CLI::App& app);
 Runner register_sensors_command(CLI::App& app);
+Runner register_eval_command(CLI::App& app);
 
 }  // namespace iilfm::cli

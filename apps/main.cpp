@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   add(iilfm::cli::register_detect_command);
   add(iilfm::cli::register_sim_command);
   add(iilfm::cli::register_sensors_command);
+  add(iilfm::cli::register_eval_command);
 
   try {
     app.parse(argc, argv);

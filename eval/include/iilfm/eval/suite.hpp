@@ -1,0 +1,78 @@
+// Suites of evaluation set-ups (the paper's experiments re-created in the simulator), run over
+// several seeds and both lifting methods, and summarised as mean and worst.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "iilfm/eval/case.hpp"
+
+namespace iilfm::eval {
+
+struct SuiteSetup {
+  std::string group;  // the table it belongs to, e.g. "Table 1: Mid-40, ..."
+  std::string name;   // e.g. "Mid-40, 2 m, 40 frames"
+  CaseSpec spec;
+};
+
+// "paper": Table 1 (Mid-40, 17.2 cm tag36h11 at 2, 3, 4 m; 40 and 100 frames), Table 2 (2 m, 40
+// frames, LiDAR pitched and yawed by +-15 deg), Table 3 (ULTRA Puck, ccw10m).
+// "quick": one set-up of each table (2 m / 40 frames, yaw +15 deg, ccw10m), for CI.
+// InputError for other names.
+std::vector<SuiteSetup> named_suite(const std::string& name);
+std::vector<std::string> suite_names();
+
+// Mean and worst of one figure over the cases that have it.
+struct Stat {
+  int count = 0;
+  double sum = 0, worst = 0;
+  void add(double value, double worst_value);
+  void add(double value) { add(value, value); }
+  double mean() const { return count > 0 ? sum / count : 0; }
+};
+
+struct Summary {
+  int cases = 0, visible = 0, detected = 0, false_positives = 0, wrong_ids = 0, poses = 0;
+  Stat corner_error;     // per case mean; worst = the worst single corner
+  Stat marker_position;  // metres, of T_lidar_marker
+  Stat marker_rotation_deg;
+  Stat position;  // metres, of T_world_lidar
+  Stat rotation_deg;
+  Stat time_ms;
+};
+
+Summary summarize(const std::vector<CaseScore>& cases);
+
+struct SetupResult {
+  SuiteSetup setup;
+  LiftMethod lift = LiftMethod::kPlane;
+  std::vector<std::uint64_t> seeds;
+  std::vector<CaseScore> cases;  // one per seed
+  Summary summary;
+};
+
+struct SuiteOptions {
+  std::vector<std::uint64_t> seeds = {1, 2, 3, 4, 5};
+  std::vector<LiftMethod> lifts = {LiftMethod::kPlane, LiftMethod::kPaper};
+  // Physics switched on for every set-up on top of its own options.
+  bool footprint = false;
+  double dark_dropout = 0;
+  double invalid_fraction = 0;
+};
+
+struct SuiteResult {
+  std::string suite;
+  SuiteOptions options;
+  std::vector<SetupResult> results;  // set-up major, then lift, in suite order
+  double seconds = 0;                // wall time of the whole run
+};
+
+// Each seed's scan is simulated once and run through every lifting method. `progress` (optional)
+// is called after each set-up and lift with the result so far.
+SuiteResult run_suite(const std::string& name, const std::vector<SuiteSetup>& setups,
+                      const SuiteOptions& options,
+                      const std::function<void(const SetupResult&)>& progress = {});
+
+}  // namespace iilfm::eval

@@ -1,0 +1,114 @@
+// Simulating a case and running the pipeline on it.
+#include "iilfm/eval/case.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "iilfm/error.hpp"
+#include "iilfm/pose.hpp"
+#include "iilfm/sensor.hpp"
+
+namespace iilfm::eval {
+namespace {
+
+// Drivers of organised clouds emit NaN or (0, 0, 0) for lost returns; the file readers drop
+// those, so the evaluation does too before handing the cloud to the pipeline.
+void drop_invalid_points(PointCloud& cloud) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const float x = cloud.x[i], y = cloud.y[i], z = cloud.z[i];
+    const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z) &&
+                        std::isfinite(cloud.intensity[i]);
+    if (!finite || (x == 0 && y == 0 && z == 0)) continue;
+    cloud.x[kept] = x;
+    cloud.y[kept] = y;
+    cloud.z[kept] = z;
+    cloud.intensity[kept] = cloud.intensity[i];
+    if (cloud.has_time()) cloud.time[kept] = cloud.time[i];
+    if (cloud.has_ring()) cloud.ring[kept] = cloud.ring[i];
+    ++kept;
+  }
+  cloud.x.resize(kept);
+  cloud.y.resize(kept);
+  cloud.z.resize(kept);
+  cloud.intensity.resize(kept);
+  if (cloud.has_time()) cloud.time.resize(kept);
+  if (cloud.has_ring()) cloud.ring.resize(kept);
+}
+
+// Smallest gap between neighbouring rings: the row height that gives every ring its own row.
+double closest_ring_spacing_deg(const sim::SensorModel& sensor) {
+  std::vector<double> rings = sensor.ring_elevations_deg;
+  std::sort(rings.begin(), rings.end());
+  double closest = 180;
+  for (std::size_t i = 1; i < rings.size(); ++i)
+    closest = std::min(closest, rings[i] - rings[i - 1]);
+  return closest;
+}
+
+}  // namespace
+
+const char* lift_name(LiftMethod lift) { return lift == LiftMethod::kPaper ? "paper" : "plane"; }
+
+MarkerMap map_of(const sim::Scene& scene) {
+  MarkerMap map;
+  for (const sim::MarkerSpec& m : scene.markers) {
+    MapMarker mm;
+    mm.family = m.family;
+    mm.id = m.id;
+    mm.corners_world = sim::marker_corners_world(m);
+    map.add(mm);
+  }
+  return map;
+}
+
+SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed) {
+  SimulatedCase c;
+  c.setup = sim::named_scene(spec.scene, spec.scene_params);
+  c.sensor = sim::sensor_model(spec.sensor.empty() ? c.setup.sensor : spec.sensor);
+  sim::SimOptions options = spec.physics;
+  options.T_world_lidar = c.setup.T_world_lidar;
+  options.T_world_lidar.linear() =
+      c.setup.T_world_lidar.linear() * rotation_from_rpy_deg(spec.lidar_rpy_deg);
+  const bool rosette = c.sensor.pattern == sim::ScanPattern::kRosette;
+  options.frames = spec.frames > 0 ? spec.frames : (rosette ? 40 : 1);
+  options.seed = seed;
+  c.scan = sim::simulate(c.setup.scene, c.sensor, options);
+  drop_invalid_points(c.scan.cloud);
+  return c;
+}
+
+PipelineOptions pipeline_options_for(const SimulatedCase& c, LiftMethod lift) {
+  PipelineOptions options;
+  const auto& presets = sensor_presets();
+  const auto preset = std::find_if(presets.begin(), presets.end(),
+                                   [&](const SensorPreset& p) { return p.name == c.sensor.name; });
+  if (preset != presets.end()) {
+    options.projection.res_h_deg = preset->res_h_deg;
+    options.projection.res_v_deg = preset->res_v_deg;
+    options.preprocess.threshold = preset->threshold;
+  } else if (c.sensor.pattern == sim::ScanPattern::kSpinning) {
+    options.projection.res_h_deg = c.sensor.azimuth_step_deg;
+    options.projection.res_v_deg = closest_ring_spacing_deg(c.sensor);
+    options.preprocess.threshold = 40;  // between black print (10) and white paper (120)
+  } else {
+    throw InputError("no image resolution known for simulated sensor '" + c.sensor.name + "'");
+  }
+  std::vector<std::string> families;
+  for (const sim::MarkerSpec& m : c.setup.scene.markers) {
+    if (std::find(families.begin(), families.end(), m.family) == families.end()) {
+      families.push_back(m.family);
+    }
+  }
+  options.families = families;
+  options.map = map_of(c.setup.scene);
+  options.lift = lift;
+  return options;
+}
+
+CaseScore run_case(const SimulatedCase& c, LiftMethod lift) {
+  Pipeline pipeline(pipeline_options_for(c, lift));
+  return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
+}
+
+}  // namespace iilfm::eval

@@ -1,0 +1,102 @@
+// Scoring one frame: match detections to the true markers in the image, then compare corners,
+// marker poses and the LiDAR pose with the truth.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "iilfm/eval/case.hpp"
+
+namespace iilfm::eval {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+double rotation_angle_deg(const Mat3& estimated, const Mat3& truth) {
+  return Eigen::AngleAxisd(estimated.transpose() * truth).angle() * kRadToDeg;
+}
+
+// A true marker as the image sees it: where its centre projects and how far its corners reach.
+struct MarkerInImage {
+  Vec2 centre;
+  double radius = 0;
+};
+
+MarkerInImage in_image(const ImageGeometry& g, const sim::MarkerTruth& m) {
+  MarkerInImage out;
+  out.centre = g.pixel_of_point(m.T_lidar_marker.translation());
+  for (const Vec3& corner : m.corners_lidar) {
+    out.radius = std::max(out.radius, (g.pixel_of_point(corner) - out.centre).norm());
+  }
+  return out;
+}
+
+Vec2 centroid(const std::vector<Vec2>& points) {
+  Vec2 sum = Vec2::Zero();
+  for (const Vec2& p : points) sum += p;
+  return points.empty() ? sum : sum / static_cast<double>(points.size());
+}
+
+}  // namespace
+
+CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth) {
+  CaseScore s;
+  s.time_ms = result.times_ms.total();
+  std::vector<MarkerInImage> footprints;
+  for (const sim::MarkerTruth& m : truth.markers) {
+    footprints.push_back(in_image(result.image.geometry, m));
+    s.visible += m.visible ? 1 : 0;
+  }
+  std::vector<bool> found(truth.markers.size(), false);
+  double corner_sum = 0, marker_position_sum = 0, marker_rotation_sum = 0;
+
+  for (const MarkerResult& detected : result.markers) {
+    const Vec2 centre = centroid(detected.detection.corners_px);
+    int on_marker = -1;  // the true marker whose image area holds the detection's centre
+    for (std::size_t i = 0; i < truth.markers.size(); ++i) {
+      if ((centre - footprints[i].centre).norm() <= footprints[i].radius) on_marker = int(i);
+    }
+    if (on_marker < 0) {
+      ++s.false_positives;
+      continue;
+    }
+    const sim::MarkerTruth& m = truth.markers[on_marker];
+    if (detected.detection.family != m.family || detected.detection.id != m.id) {
+      ++s.wrong_ids;
+      continue;
+    }
+    if (found[on_marker]) {  // the same marker twice
+      ++s.false_positives;
+      continue;
+    }
+    found[on_marker] = true;
+    s.detected += m.visible ? 1 : 0;
+    for (std::size_t k = 0; k < detected.corners.size() && k < 4; ++k) {
+      if (!detected.corners[k].valid()) continue;
+      const double error = (detected.corners[k].point - m.corners_lidar[k]).norm();
+      corner_sum += error;
+      s.corner_error_max = std::max(s.corner_error_max, error);
+      ++s.corners;
+    }
+    if (detected.T_lidar_marker) {
+      marker_position_sum +=
+          (detected.T_lidar_marker->translation() - m.T_lidar_marker.translation()).norm();
+      marker_rotation_sum +=
+          rotation_angle_deg(detected.T_lidar_marker->linear(), m.T_lidar_marker.linear());
+      ++s.marker_poses;
+    }
+  }
+  if (s.corners > 0) s.corner_error_mean = corner_sum / s.corners;
+  if (s.marker_poses > 0) {
+    s.marker_position_error_mean = marker_position_sum / s.marker_poses;
+    s.marker_rotation_error_mean_deg = marker_rotation_sum / s.marker_poses;
+  }
+  if (result.pose) {
+    s.pose = true;
+    const Isometry3& estimated = result.pose->T_world_lidar;
+    s.position_error = (estimated.translation() - truth.T_world_lidar.translation()).norm();
+    s.rotation_error_deg = rotation_angle_deg(estimated.linear(), truth.T_world_lidar.linear());
+  }
+  return s;
+}
+
+}  // namespace iilfm::eval

@@ -1,0 +1,134 @@
+// The paper's experiments as simulated set-ups, and running them over seeds and lifting methods.
+#include "iilfm/eval/suite.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "iilfm/error.hpp"
+
+namespace iilfm::eval {
+namespace {
+
+SuiteSetup mid40_at(double distance_m, int frames) {
+  SuiteSetup s;
+  s.group = "Table 1: Mid-40, 17.2 cm tag36h11, level LiDAR facing the wall";
+  char name[64];
+  std::snprintf(name, sizeof name, "Mid-40, %g m, %d frames", distance_m, frames);
+  s.name = name;
+  s.spec.scene = "tag-wall";
+  s.spec.sensor = "mid40";
+  s.spec.scene_params.distance_m = distance_m;
+  s.spec.frames = frames;
+  return s;
+}
+
+// Table 2: 2 m, 40 frames, the LiDAR turned about its own position.
+SuiteSetup mid40_turned(const char* axis, double degrees) {
+  SuiteSetup s = mid40_at(2.0, 40);
+  s.group = "Table 2: Mid-40, 2 m, 40 frames, LiDAR pitched or yawed";
+  const bool pitch = std::string(axis) == "pitch";
+  s.spec.lidar_rpy_deg = pitch ? Vec3(0, degrees, 0) : Vec3(0, 0, degrees);
+  char name[64];
+  std::snprintf(name, sizeof name, "Mid-40, 2 m, 40 frames, %s %+g deg", axis, degrees);
+  s.name = name;
+  return s;
+}
+
+SuiteSetup ccw10m() {
+  SuiteSetup s;
+  s.group = "Table 3: ULTRA Puck, LiDARTag's ccw_10m";
+  s.name = "ULTRA Puck, ccw10m (0.915 m tag16h5 at 10 m, turned 45 deg)";
+  s.spec.scene = "ccw10m";
+  s.spec.sensor = "ultrapuck";
+  s.spec.frames = 1;
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> suite_names() { return {"paper", "quick"}; }
+
+std::vector<SuiteSetup> named_suite(const std::string& name) {
+  if (name == "paper") {
+    std::vector<SuiteSetup> setups;
+    for (double distance : {2.0, 3.0, 4.0}) {
+      for (int frames : {40, 100}) setups.push_back(mid40_at(distance, frames));
+    }
+    for (const char* axis : {"pitch", "yaw"}) {
+      for (double degrees : {-15.0, 15.0}) setups.push_back(mid40_turned(axis, degrees));
+    }
+    setups.push_back(ccw10m());
+    return setups;
+  }
+  if (name == "quick") return {mid40_at(2.0, 40), mid40_turned("yaw", 15), ccw10m()};
+  throw InputError("unknown evaluation suite '" + name + "' (known: paper, quick)");
+}
+
+void Stat::add(double value, double worst_value) {
+  ++count;
+  sum += value;
+  worst = std::max(worst, worst_value);
+}
+
+Summary summarize(const std::vector<CaseScore>& cases) {
+  Summary s;
+  for (const CaseScore& c : cases) {
+    ++s.cases;
+    s.visible += c.visible;
+    s.detected += c.detected;
+    s.false_positives += c.false_positives;
+    s.wrong_ids += c.wrong_ids;
+    if (c.corners > 0) s.corner_error.add(c.corner_error_mean, c.corner_error_max);
+    if (c.marker_poses > 0) {
+      s.marker_position.add(c.marker_position_error_mean);
+      s.marker_rotation_deg.add(c.marker_rotation_error_mean_deg);
+    }
+    if (c.pose) {
+      ++s.poses;
+      s.position.add(c.position_error);
+      s.rotation_deg.add(c.rotation_error_deg);
+    }
+    s.time_ms.add(c.time_ms);
+  }
+  return s;
+}
+
+SuiteResult run_suite(const std::string& name, const std::vector<SuiteSetup>& setups,
+                      const SuiteOptions& options,
+                      const std::function<void(const SetupResult&)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  SuiteResult suite;
+  suite.suite = name;
+  suite.options = options;
+  for (const SuiteSetup& setup : setups) {
+    CaseSpec spec = setup.spec;
+    spec.physics.footprint = spec.physics.footprint || options.footprint;
+    spec.physics.dark_dropout = std::max(spec.physics.dark_dropout, options.dark_dropout);
+    spec.physics.invalid_fraction =
+        std::max(spec.physics.invalid_fraction, options.invalid_fraction);
+    std::vector<SetupResult> per_lift(options.lifts.size());
+    for (std::size_t l = 0; l < options.lifts.size(); ++l) {
+      per_lift[l].setup = setup;
+      per_lift[l].setup.spec = spec;
+      per_lift[l].lift = options.lifts[l];
+    }
+    // One scan per seed, shared by the lifting methods so they are compared on the same data.
+    for (std::uint64_t seed : options.seeds) {
+      const SimulatedCase simulated = simulate_case(spec, seed);
+      for (std::size_t l = 0; l < options.lifts.size(); ++l) {
+        per_lift[l].seeds.push_back(seed);
+        per_lift[l].cases.push_back(run_case(simulated, options.lifts[l]));
+      }
+    }
+    for (SetupResult& r : per_lift) {
+      r.summary = summarize(r.cases);
+      if (progress) progress(r);
+      suite.results.push_back(std::move(r));
+    }
+  }
+  suite.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return suite;
+}
+
+}  // namespace iilfm::eval

@@ -1,0 +1,82 @@
+// The quick suite (one set-up of each paper table) holds the accuracy measured when it was
+// written, with margins, so regressions fail. Bounds: about twice the measured mean and worst over
+// seeds 1-3, never looser than the (Mid-40: LiDAR position 10 cm, rotation 6 deg) or than
+// tests/e2e/test_sim_accuracy.cpp.
+#include <gtest/gtest.h>
+
+#include "iilfm/eval/report.hpp"
+#include "iilfm/eval/suite.hpp"
+
+namespace iilfm::eval {
+namespace {
+
+// Unoptimised (sanitizer) builds run one seed to stay within CI's time.
+#ifdef NDEBUG
+const std::vector<std::uint64_t> kSeeds = {1, 2, 3};
+#else
+const std::vector<std::uint64_t> kSeeds = {1};
+#endif
+
+struct Bounds {
+  double corner_mean, corner_worst;      // metres
+  double position_mean, position_worst;  // metres
+  double rotation_mean, rotation_worst;  // degrees
+};
+
+// Runs set-up `index` of the quick suite with both lifting methods on the same scans.
+std::vector<SetupResult> run_quick_setup(std::size_t index) {
+  SuiteOptions options;
+  options.seeds = kSeeds;
+  const SuiteResult r = run_suite("quick", {named_suite("quick").at(index)}, options);
+  for (const SetupResult& s : r.results) std::cout << "[ measured ] " << summary_line(s) << "\n";
+  return r.results;
+}
+
+void expect_within(const SetupResult& r, const Bounds& b) {
+  const Summary& s = r.summary;
+  SCOPED_TRACE(summary_line(r));
+  EXPECT_EQ(s.detected, s.cases);
+  EXPECT_EQ(s.visible, s.cases);
+  EXPECT_EQ(s.false_positives, 0);
+  EXPECT_EQ(s.wrong_ids, 0);
+  ASSERT_EQ(s.poses, s.cases);
+  EXPECT_LT(s.corner_error.mean(), b.corner_mean);
+  EXPECT_LT(s.corner_error.worst, b.corner_worst);
+  EXPECT_LT(s.position.mean(), b.position_mean);
+  EXPECT_LT(s.position.worst, b.position_worst);
+  EXPECT_LT(s.rotation_deg.mean(), b.rotation_mean);
+  EXPECT_LT(s.rotation_deg.worst, b.rotation_worst);
+}
+
+// Paper Table 1 at 2 m, 40 frames. Measured (seeds 1-3), plane: vertex 0.8 mm (worst 1.3),
+// position 5.7 mm (6.5), rotation 0.17 deg (0.20); paper's rule: vertex 8.3 mm (26.3), position
+// 193 mm (238), rotation 5.5 deg (6.8).
+TEST(QuickSuite, Mid40AtTwoMetres) {
+  const std::vector<SetupResult> r = run_quick_setup(0);
+  ASSERT_EQ(r.size(), 2u);
+  expect_within(r[0], {0.0016, 0.003, 0.012, 0.015, 0.35, 0.45});
+  expect_within(r[1], {0.017, 0.04, 0.40, 0.50, 11, 14});
+  EXPECT_LT(r[0].summary.rotation_deg.mean() * 5, r[1].summary.rotation_deg.mean());
+}
+
+// Paper Table 2, LiDAR yawed +15 deg. Measured, plane: vertex 1.3 mm (2.1), position 21 mm (29),
+// rotation 0.61 deg (0.85); paper's rule: 12.9 mm (25.5), 245 mm (306), 7.0 deg (8.8).
+TEST(QuickSuite, Mid40YawedFifteenDegrees) {
+  const std::vector<SetupResult> r = run_quick_setup(1);
+  ASSERT_EQ(r.size(), 2u);
+  expect_within(r[0], {0.0026, 0.0045, 0.045, 0.06, 1.2, 1.7});
+  expect_within(r[1], {0.026, 0.05, 0.50, 0.62, 14, 18});
+}
+
+// Paper Table 3, ccw10m. Measured, plane: vertex 12.2 mm (18.0), position 136 mm (184), rotation
+// 0.79 deg (1.05); paper's rule: 29.7 mm (41.6), 273 mm (507), 1.6 deg (2.9). The position stays
+// bounded by 20 cm as in tests/e2e (the known shortfall of docs/accuracy.md).
+TEST(QuickSuite, UltraPuckCcw10m) {
+  const std::vector<SetupResult> r = run_quick_setup(2);
+  ASSERT_EQ(r.size(), 2u);
+  expect_within(r[0], {0.024, 0.036, 0.20, 0.20, 1.6, 2.1});
+  expect_within(r[1], {0.04, 0.08, 0.55, 1.0, 3.2, 5.8});
+}
+
+}  // namespace
+}  // namespace iilfm::eval
