@@ -38,6 +38,10 @@ struct DetectArgs {
   bool no_refine_edges = false;
   int threads = 1;
   int max_hamming = -1;
+  std::string aruco_refine = "contour";
+  int aruco_window_min = ArucoOptions{}.window_min;
+  int aruco_window_max = ArucoOptions{}.window_max;
+  int aruco_window_step = ArucoOptions{}.window_step;
   std::string json_path, image_path;
   bool quiet = false;
 };
@@ -85,6 +89,15 @@ io::LoadedCloud load_input(const DetectArgs& args) {
     total.stats.zero += frame.stats.zero;
   }
   return total;
+}
+
+ArucoRefine aruco_refine(const std::string& name) {
+  if (name == "none") return ArucoRefine::kNone;
+  if (name == "subpixel") return ArucoRefine::kSubpixel;
+  if (name == "contour") return ArucoRefine::kContour;
+  if (name == "apriltag") return ArucoRefine::kAprilTag;
+  throw InputError("--aruco-refine must be none, subpixel, contour or apriltag, got '" + name +
+                   "'");
 }
 
 PipelineOptions pipeline_options(const DetectArgs& args) {
@@ -135,6 +148,10 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
   options.detector.apriltag.refine_edges = !args.no_refine_edges;
   options.detector.apriltag.threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
+  options.detector.aruco.refine = aruco_refine(args.aruco_refine);
+  options.detector.aruco.window_min = args.aruco_window_min;
+  options.detector.aruco.window_max = args.aruco_window_max;
+  options.detector.aruco.window_step = args.aruco_window_step;
   if (args.marker_size > 0) options.marker_size = args.marker_size;
   if (!args.map_path.empty()) options.map = MarkerMap::load(args.map_path);
   return options;
@@ -163,6 +180,9 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
     out << "LiDAR pose in world: xyz (" << t.x() << ", " << t.y() << ", " << t.z() << ") m, rpy ("
         << rpy.x() << ", " << rpy.y() << ", " << rpy.z() << ") deg, rms " << r.pose->rms * 1000
         << " mm from " << r.pose->markers_used.size() << " marker(s)\n";
+    for (const RejectedMarker& m : r.pose->markers_rejected)
+      out << "  rejected " << m.key << ": " << m.residual_m * 1000
+          << " mm from where the other markers put it (wrong id, moved, or map error?)\n";
   } else {
     out << "LiDAR pose: none (" << r.pose_missing_reason << ")\n";
   }
@@ -237,6 +257,17 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-refine-edges", args->no_refine_edges, "AprilTag: do not refine quad edges");
   cmd->add_option("--threads", args->threads, "AprilTag threads")->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
+  cmd->add_option("--aruco-refine", args->aruco_refine,
+                  "ArUco corner refinement: none|subpixel|contour (default)|apriltag");
+  cmd->add_option("--aruco-window-min", args->aruco_window_min,
+                  "ArUco adaptive threshold: smallest window (pixels, default 3)")
+      ->check(CLI::Range(3, 255));
+  cmd->add_option("--aruco-window-max", args->aruco_window_max,
+                  "ArUco adaptive threshold: largest window (pixels, default 23)")
+      ->check(CLI::Range(3, 255));
+  cmd->add_option("--aruco-window-step", args->aruco_window_step,
+                  "ArUco adaptive threshold: window step (pixels, default 10)")
+      ->check(CLI::Range(1, 255));
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");

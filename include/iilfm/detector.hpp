@@ -30,8 +30,37 @@ struct AprilTagOptions {
   int max_hamming = -1;  // bits to correct; -1 = per-family default (see docs/detectors.md)
 };
 
+// Corner refinement of the ArUco back-end (OpenCV's CORNER_REFINE_*).
+enum class ArucoRefine { kNone, kSubpixel, kContour, kAprilTag };
+
+// Options of the ArUco back-end (OpenCV's DetectorParameters, LiDAR-sized defaults) and of iilfm's
+// plausibility filter applied to its detections (see docs/detectors.md).
+struct ArucoOptions {
+  // Adaptive threshold windows (pixels, odd): small, because markers are 15-60 px wide.
+  int window_min = 3;
+  int window_max = 23;
+  int window_step = 10;
+  double threshold_constant = 7;
+  // Contour line fitting is the most accurate on binarised images (docs/detectors.md).
+  ArucoRefine refine = ArucoRefine::kContour;
+  int refine_window = 3;  // half-size (pixels) of the subpixel refinement window
+  // Marker perimeter limits relative to the image's larger side (OpenCV's rates); the default
+  // minimum is low because LiDAR images are wide and markers small, the filter below decides.
+  double min_perimeter_rate = 0.01;
+  double max_perimeter_rate = 4.0;
+  double error_correction_rate = 0.6;
+  // Plausibility filter: reject quads whose shortest side spans fewer than min_cell_px pixels per
+  // cell of the black square, whose longest side exceeds max_side_ratio times the shortest, or
+  // whose one-cell margin is brighter than the black border next to it along fewer than
+  // min_quiet_zone of its cells (a printed marker sits on white paper).
+  double min_cell_px = 2.0;
+  double max_side_ratio = 3.0;
+  double min_quiet_zone = 0.75;
+};
+
 struct DetectorOptions {
   AprilTagOptions apriltag;
+  ArucoOptions aruco;
 };
 
 class MarkerDetector {

@@ -3,6 +3,8 @@
 
 #include "apriltag_detector.hpp"
 #include "apriltag_families.hpp"
+#include "aruco_detector.hpp"
+#include "aruco_dictionaries.hpp"
 #include "iilfm/detector.hpp"
 #include "iilfm/error.hpp"
 
@@ -19,6 +21,8 @@ FamilyName split_family(const std::string& name) {
   if (colon == std::string::npos) {
     const std::string hint = detail::find_apriltag_family(name)
                                  ? " (did you mean 'apriltag:" + name + "'?)"
+                             : detail::find_aruco_dictionary(name)
+                                 ? " (did you mean 'aruco:" + name + "'?)"
                                  : " (expected BACKEND:FAMILY, e.g. apriltag:tag36h11)";
     throw InputError("unknown marker family '" + name + "'" + hint);
   }
@@ -32,20 +36,24 @@ std::unique_ptr<MarkerDetector> make_detector(const std::string& family,
   const FamilyName name = split_family(family);
   if (name.backend == "apriltag")
     return detail::make_apriltag_detector(name.family, options.apriltag);
+  if (name.backend == "aruco") return detail::make_aruco_detector(name.family, options.aruco);
   throw InputError("unknown marker back-end '" + name.backend + "' in '" + family +
-                   "' (available: apriltag)");
+                   "' (available: apriltag, aruco)");
 }
 
 std::vector<std::string> known_families() {
   std::vector<std::string> names;
   for (const auto& entry : detail::apriltag_families())
     names.push_back(std::string("apriltag:") + entry.name);
+  for (const auto& entry : detail::aruco_dictionaries())
+    names.push_back(std::string("aruco:") + entry.name);
   return names;
 }
 
 FamilyLayout family_layout(const std::string& family) {
   const FamilyName name = split_family(family);
   if (name.backend == "apriltag") return detail::apriltag_layout(name.family);
+  if (name.backend == "aruco") return detail::aruco_layout(name.family);
   throw InputError("unknown marker back-end '" + name.backend + "' in '" + family + "'");
 }
 
