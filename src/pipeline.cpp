@@ -93,38 +93,23 @@ const FrameResult& Pipeline::process(const PointCloud& cloud) {
   if (!options_.map) {
     r.pose_missing_reason = "no marker map given";
   } else {
-    std::vector<Vec3> world, lidar;
-    LidarPose pose;
+    std::vector<MarkerCorrespondence> correspondences;
     for (const MarkerResult& marker : r.markers) {
       if (!marker.in_map) continue;
       const MapMarker* mapped = options_.map->find(marker.detection.family, marker.detection.id);
-      std::size_t used = 0;
+      MarkerCorrespondence c{mapped->key(), {}, {}};
       for (std::size_t k = 0; k < marker.corners.size() && k < 4; ++k) {
         if (!marker.corners[k].valid()) continue;
-        world.push_back(mapped->corners_world[k]);
-        lidar.push_back(marker.corners[k].point);
-        ++used;
+        c.world.push_back(mapped->corners_world[k]);
+        c.lidar.push_back(marker.corners[k].point);
       }
-      if (used > 0) pose.markers_used.push_back(mapped->key());
+      if (!c.world.empty()) correspondences.push_back(std::move(c));
     }
-    if (pose.markers_used.empty()) {
-      r.pose_missing_reason = "no mapped marker detected";
-    } else if (world.size() < std::max<std::size_t>(3, options_.min_pose_corners)) {
-      r.pose_missing_reason =
-          "only " + std::to_string(world.size()) + " mapped corners could be lifted to 3-D (need " +
-          std::to_string(std::max<std::size_t>(3, options_.min_pose_corners)) + ")";
-    } else {
-      // Paper Eq. 6: the transform taking world corners onto LiDAR-frame corners is T_lidar_world.
-      const RigidFit fit = fit_rigid(world, lidar);
-      if (!fit.ok) {
-        r.pose_missing_reason = "mapped corners are collinear";
-      } else {
-        pose.T_world_lidar = fit.T.inverse();
-        pose.rms = fit.rms;
-        pose.corners_used = world.size();
-        r.pose = pose;
-      }
-    }
+    LidarPoseResult estimate = estimate_lidar_pose(correspondences, options_.pose);
+    if (estimate.ok)
+      r.pose = std::move(estimate.pose);
+    else
+      r.pose_missing_reason = std::move(estimate.failure);
   }
   r.times_ms.pose = watch.lap_ms();
   return r;

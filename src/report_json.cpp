@@ -87,6 +87,10 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
                    {"rms_m", round_to(p.rms, 1e-6)},
                    {"corners_used", p.corners_used},
                    {"markers_used", p.markers_used}};
+    json rejected = json::array();
+    for (const RejectedMarker& m : p.markers_rejected)
+      rejected.push_back({{"marker", m.key}, {"residual_m", round_to(m.residual_m, 1e-6)}});
+    out["pose"]["markers_rejected"] = rejected;
   } else {
     out["pose"] = nullptr;
     out["pose_missing_reason"] = result.pose_missing_reason;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "iilfm/detector.hpp"
+#include "iilfm/lidar_pose.hpp"
 #include "iilfm/lift.hpp"
 #include "iilfm/marker_map.hpp"
 #include "iilfm/preprocess.hpp"
@@ -30,7 +31,7 @@ struct PipelineOptions {
   LiftOptions lift_options;
   std::optional<double> marker_size;  // edge of the black square for markers not in the map
   std::optional<MarkerMap> map;       // enables the LiDAR pose
-  std::size_t min_pose_corners = 4;   // fewer lifted, mapped corners: no pose
+  LidarPoseOptions pose;
 };
 
 struct MarkerResult {
@@ -40,13 +41,6 @@ struct MarkerResult {
   double marker_fit_rms = 0;                // residual of that fit, metres
   std::optional<Plane> plane;               // the fitted marker plane (plane lifting)
   bool in_map = false;
-};
-
-struct LidarPose {
-  Isometry3 T_world_lidar = Isometry3::Identity();
-  double rms = 0;                         // corner residual after alignment, metres
-  std::vector<std::string> markers_used;  // "family/id"
-  std::size_t corners_used = 0;
 };
 
 struct StageTimes {

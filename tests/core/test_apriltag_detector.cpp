@@ -114,7 +114,10 @@ TEST(DetectorRegistry, RejectsUnknownFamiliesWithAHint) {
   }
   EXPECT_THROW(make_detector("apriltag:tag99h9"), InputError);
   EXPECT_THROW(make_detector("quirk:tag36h11"), InputError);
-  EXPECT_EQ(known_families().size(), 9u);
+  const std::vector<std::string> families = known_families();
+  int apriltag_families = 0;
+  for (const std::string& f : families) apriltag_families += f.rfind("apriltag:", 0) == 0;
+  EXPECT_EQ(apriltag_families, 9);
   EXPECT_EQ(family_layout("apriltag:tag36h11").border_width, 8);
   EXPECT_EQ(family_layout("apriltag:tag36h11").total_width, 10);
 }
