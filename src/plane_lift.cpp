@@ -32,17 +32,24 @@ Plane fit_plane(const std::vector<Vec3>& points) {
   return plane;
 }
 
+std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point origin) {
+  std::vector<cv::Point> out;
+  for (const Vec2& p : polygon_px)
+    out.emplace_back(static_cast<int>(std::lround(p.x())) - origin.x,
+                     static_cast<int>(std::lround(p.y())) - origin.y);
+  return out;
+}
+
+// Points of the observed pixels inside `polygon_px` but not inside `excluded_px` (may be empty).
 std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                                const PointCloud& cloud) {
+                                const PointCloud& cloud,
+                                const std::vector<Vec2>& excluded_px = {}) {
   std::vector<Vec3> points;
   if (polygon_px.size() < 3) return points;
   const ImageGeometry& g = image.geometry;
-  std::vector<cv::Point> polygon;
   double min_u = 1e18, max_u = -1e18, min_v = 1e18, max_v = -1e18;
   for (const Vec2& p : polygon_px) {
     if (!p.allFinite()) return points;
-    polygon.emplace_back(static_cast<int>(std::lround(p.x())),
-                         static_cast<int>(std::lround(p.y())));
     min_u = std::min(min_u, p.x());
     max_u = std::max(max_u, p.x());
     min_v = std::min(min_v, p.y());
@@ -56,8 +63,9 @@ std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const Proje
 
   // Rasterise the polygon into a mask over its bounding box.
   cv::Mat inside(r1 - r0 + 1, c1 - c0 + 1, CV_8U, cv::Scalar(0));
-  for (cv::Point& p : polygon) p -= cv::Point(c0, r0);
-  cv::fillConvexPoly(inside, polygon, cv::Scalar(255));
+  cv::fillConvexPoly(inside, rounded(polygon_px, cv::Point(c0, r0)), cv::Scalar(255));
+  if (excluded_px.size() >= 3)
+    cv::fillConvexPoly(inside, rounded(excluded_px, cv::Point(c0, r0)), cv::Scalar(0));
   for (int r = r0; r <= r1; ++r) {
     const std::uint8_t* in = inside.ptr<std::uint8_t>(r - r0);
     for (int c = c0; c <= c1; ++c) {
@@ -74,26 +82,71 @@ std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const Proje
 
 }  // namespace
 
-Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                       const PointCloud& cloud, const PlaneFitOptions& options) {
-  std::vector<Vec3> points = points_inside(polygon_px, image, cloud);
-  if (points.size() < options.min_points) return Plane{};
+namespace {
+
+// Least squares, then refits without points farther than max(min band, 3 robust sigmas).
+// Leaves the final inliers in `points`.
+Plane robust_plane(std::vector<Vec3>& points, const PlaneFitOptions& options, double* band_out) {
   Plane plane = fit_plane(points);
   std::vector<Vec3> inliers;
   std::vector<double> residuals;
+  double band = options.min_inlier_band_m;
   for (int it = 0; it < options.iterations && plane.ok; ++it) {
     residuals.clear();
     for (const Vec3& p : points) residuals.push_back(std::abs(plane.normal.dot(p) - plane.d));
     std::vector<double> sorted = residuals;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double robust_sigma = 1.4826 * sorted[sorted.size() / 2];
-    const double band = std::max(options.min_inlier_band_m, 3 * robust_sigma);
+    band = std::max(options.min_inlier_band_m, 3 * 1.4826 * sorted[sorted.size() / 2]);
     inliers.clear();
     for (std::size_t i = 0; i < points.size(); ++i)
       if (residuals[i] <= band) inliers.push_back(points[i]);
     if (inliers.size() < options.min_points || inliers.size() == points.size()) break;
     plane = fit_plane(inliers);
     points.swap(inliers);
+  }
+  if (band_out) *band_out = band;
+  return plane;
+}
+
+std::vector<Vec2> scaled_about_centre(const std::vector<Vec2>& polygon, double scale) {
+  Vec2 centre = Vec2::Zero();
+  for (const Vec2& p : polygon) centre += p / static_cast<double>(polygon.size());
+  std::vector<Vec2> out;
+  for (const Vec2& p : polygon) out.push_back(centre + scale * (p - centre));
+  return out;
+}
+
+}  // namespace
+
+Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
+                       const PointCloud& cloud, const PlaneFitOptions& options) {
+  std::vector<Vec3> marker_points = points_inside(polygon_px, image, cloud);
+  if (marker_points.size() < options.min_points) return Plane{};
+  double band = 0;
+  Plane plane = robust_plane(marker_points, options, &band);
+  if (!plane.ok) return plane;
+
+  // A printed sheet is flush with what it hangs on: when the surround is coplanar with the marker,
+  // its points pin the normal down far better (more points, longer lever). Largest ring first.
+  for (double scale : options.surround_scales) {
+    std::vector<Vec3> ring =
+        points_inside(scaled_about_centre(polygon_px, scale), image, cloud, polygon_px);
+    if (ring.size() < marker_points.size() / 2) continue;
+    std::size_t coplanar = 0;
+    for (const Vec3& p : ring) coplanar += std::abs(plane.normal.dot(p) - plane.d) <= band;
+    if (coplanar < options.min_coplanar_fraction * static_cast<double>(ring.size())) continue;
+    std::vector<Vec3> all = marker_points;
+    for (const Vec3& p : ring)
+      if (std::abs(plane.normal.dot(p) - plane.d) <= band) all.push_back(p);
+    Plane wide = robust_plane(all, options, nullptr);
+    if (!wide.ok) continue;
+    // The normal from the wide fit; the offset from the marker's own points, so a sheet standing a
+    // little proud of its wall (a board, a thick print) keeps its own depth.
+    double offset = 0;
+    for (const Vec3& p : marker_points) offset += wide.normal.dot(p);
+    wide.d = offset / static_cast<double>(marker_points.size());
+    wide.surround_scale = scale;
+    return wide;
   }
   return plane;
 }

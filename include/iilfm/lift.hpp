@@ -45,8 +45,10 @@ Vec3 pixel_point(const ProjectedImage& image, int col, int row);
 struct Plane {
   Vec3 normal = Vec3::UnitX();
   double d = 0;
-  double rms = 0;           // of the inliers, metres
-  std::size_t inliers = 0;  // points used in the final fit
+  double rms = 0;             // of the inliers, metres
+  std::size_t inliers = 0;    // points used in the final fit
+  double surround_scale = 1;  // > 1: the normal came from the coplanar surround this many times
+                              // the marker's size
   bool ok = false;
 };
 
@@ -54,9 +56,14 @@ struct PlaneFitOptions {
   std::size_t min_points = 8;
   double min_inlier_band_m = 0.01;  // inlier band is max(this, 3 robust sigmas)
   int iterations = 3;
+  // Surrounds (the detected quad scaled about its centre) tried for a coplanar extension, largest
+  // first, and the share of their points that must lie on the marker's plane.
+  std::vector<double> surround_scales = {3.0, 2.0};
+  double min_coplanar_fraction = 0.9;
 };
 
-// Fits the marker's plane robustly to the observed pixels inside the detected polygon. A pixel
+// Fits the marker's plane robustly to the observed pixels inside the detected polygon, then, when
+// the surround is coplanar with it, takes the normal from marker and surround together. A pixel
 // holding one point contributes that point; a pixel holding several contributes its mean range
 // along the pixel-centre ray, which is where a locally planar surface crosses that ray.
 Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,

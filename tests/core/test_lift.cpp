@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "iilfm/lift.hpp"
 
 namespace iilfm {
@@ -75,6 +77,77 @@ TEST(LiftPaper, NoSymmetricPairMeansUnrecoverable) {
   EXPECT_LT((row.point - truth).norm(), 1e-3);  // the row pair is not exactly symmetric in angle
   EXPECT_EQ(lift_paper(Vec2(-50, 3), scene.image).status, CornerStatus::kUnrecoverable);
   EXPECT_EQ(lift_paper(Vec2(NAN, 3), scene.image).status, CornerStatus::kUnrecoverable);
+}
+
+}  // namespace
+}  // namespace iilfm
+
+namespace iilfm {
+namespace {
+
+// A marker quad (pixels 15..25 of a 41x41 image at 0.5 deg) on plane `inner`, everything else on
+// plane `outer`, with Gaussian range noise.
+struct SheetOnWall {
+  ProjectedImage image;
+  PointCloud cloud;
+  std::vector<Vec2> quad = {Vec2(15, 15), Vec2(25, 15), Vec2(25, 25), Vec2(15, 25)};
+
+  SheetOnWall(const Vec3& inner_normal, double inner_d, const Vec3& outer_normal, double outer_d,
+              double noise_m, unsigned seed) {
+    const ImageGeometry g =
+        geometry_for_bounds({-10 * kDeg, 10 * kDeg, -10 * kDeg, 10 * kDeg}, 0.5 * kDeg, 0.5 * kDeg);
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0, noise_m);
+    for (int r = 0; r < g.height; ++r)
+      for (int c = 0; c < g.width; ++c) {
+        const bool inside = c >= 15 && c <= 25 && r >= 15 && r <= 25;
+        const Vec3& n = inside ? inner_normal : outer_normal;
+        const Vec3 ray = g.ray(c, r);
+        const double t = (inside ? inner_d : outer_d) / n.dot(ray) + (noise_m > 0 ? noise(rng) : 0);
+        const Vec3 p = ray * t;
+        cloud.push_back(p.x(), p.y(), p.z(), 100);
+      }
+    ProjectionOptions opt;
+    opt.res_h_deg = opt.res_v_deg = 0.5;
+    SphericalProjector(opt).project(cloud, image);
+  }
+};
+
+const Vec3 kWallNormal = Vec3(-1, 0.2, 0.1).normalized();
+
+TEST(MarkerPlane, CoplanarSurroundIsUsedAndSharpensTheNormal) {
+  double error_marker_only = 0, error_with_surround = 0;
+  PlaneFitOptions marker_only;
+  marker_only.surround_scales.clear();
+  for (unsigned seed = 0; seed < 20; ++seed) {
+    const SheetOnWall scene(kWallNormal, -3.0, kWallNormal, -3.0, 0.02, seed);
+    const Plane wide = fit_marker_plane(scene.quad, scene.image, scene.cloud);
+    const Plane narrow = fit_marker_plane(scene.quad, scene.image, scene.cloud, marker_only);
+    ASSERT_TRUE(wide.ok && narrow.ok);
+    EXPECT_EQ(wide.surround_scale, 3.0);
+    EXPECT_EQ(narrow.surround_scale, 1.0);
+    error_with_surround += std::acos(std::min(1.0, std::abs(wide.normal.dot(kWallNormal))));
+    error_marker_only += std::acos(std::min(1.0, std::abs(narrow.normal.dot(kWallNormal))));
+  }
+  EXPECT_LT(error_with_surround, 0.4 * error_marker_only);
+}
+
+TEST(MarkerPlane, SurroundOnAnotherPlaneIsIgnored) {
+  const Vec3 turned = Vec3(-1, -0.3, 0.1).normalized();  // about 28 deg away
+  const SheetOnWall tilted(kWallNormal, -3.0, turned, -3.0, 0.0, 1);
+  const Plane p = fit_marker_plane(tilted.quad, tilted.image, tilted.cloud);
+  ASSERT_TRUE(p.ok);
+  EXPECT_EQ(p.surround_scale, 1.0);
+  EXPECT_LT(std::acos(std::min(1.0, std::abs(p.normal.dot(kWallNormal)))), 1e-4);
+}
+
+TEST(MarkerPlane, ParallelSurroundSetsTheNormalButNotTheDepth) {
+  // A sheet 5 cm proud of its wall, 2 cm range noise: the wall's points fall inside the inlier
+  // band, so the normal comes from both, while the depth must stay the sheet's own.
+  const SheetOnWall board(kWallNormal, -3.0, kWallNormal, -3.05, 0.02, 2);
+  const Plane p = fit_marker_plane(board.quad, board.image, board.cloud);
+  ASSERT_TRUE(p.ok);
+  EXPECT_NEAR(p.d * (p.normal.dot(kWallNormal) > 0 ? 1 : -1), -3.0, 0.005);
 }
 
 }  // namespace
