@@ -105,12 +105,7 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
   std::optional<double> threshold;
   if (!args.sensor.empty()) {
     const SensorPreset& preset = find_sensor_preset(args.sensor);
-    options.projection.res_h_deg = preset.res_h_deg;
-    options.projection.res_v_deg = preset.res_v_deg;
-    constexpr double kRad = M_PI / 180.0;
-    options.projection.field_of_view =
-        AngularBounds{preset.fov_h_min_deg * kRad, preset.fov_h_max_deg * kRad,
-                      preset.fov_v_min_deg * kRad, preset.fov_v_max_deg * kRad};
+    apply_sensor_preset(preset, options);
     threshold = preset.threshold;
   } else if (args.res_h <= 0 || args.res_v <= 0) {
     throw InputError(

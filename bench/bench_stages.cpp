@@ -24,10 +24,7 @@ Scan make_scan(const std::string& scene_name, const std::string& sensor, int fra
   sim_options.frames = frames;
   Scan scan;
   scan.cloud = sim::simulate(scene.scene, sim::sensor_model(sensor), sim_options).cloud;
-  const SensorPreset& preset = find_sensor_preset(sensor);
-  scan.options.projection.res_h_deg = preset.res_h_deg;
-  scan.options.projection.res_v_deg = preset.res_v_deg;
-  scan.options.preprocess.threshold = preset.threshold;
+  apply_sensor_preset(find_sensor_preset(sensor), scan.options);
   scan.options.families = {scene.scene.markers.front().family};
   return scan;
 }
@@ -88,7 +85,7 @@ void BM_Pipeline(benchmark::State& state, const Scan& (*scan_of)()) {
   for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(scan.cloud).markers.size());
   report_points(state, scan.cloud.size());
 }
-BENCHMARK_CAPTURE(BM_Pipeline, Mid40_60frames, [] -> const Scan& {
+BENCHMARK_CAPTURE(BM_Pipeline, Mid40_60frames, []() -> const Scan& {
   return mid40_scan(60);
 })->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Pipeline, UltraPuck_ccw10m, ultrapuck_scan)->Unit(benchmark::kMillisecond);

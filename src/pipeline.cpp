@@ -1,6 +1,7 @@
 #include "iilfm/pipeline.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "iilfm/error.hpp"
 #include "iilfm/pose.hpp"
@@ -38,6 +39,16 @@ void estimate_marker_pose(MarkerResult& marker, double size) {
 }
 
 }  // namespace
+
+void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
+  constexpr double kRad = M_PI / 180.0;
+  options.projection.res_h_deg = preset.res_h_deg;
+  options.projection.res_v_deg = preset.res_v_deg;
+  options.projection.field_of_view =
+      AngularBounds{preset.fov_h_min_deg * kRad, preset.fov_h_max_deg * kRad,
+                    preset.fov_v_min_deg * kRad, preset.fov_v_max_deg * kRad};
+  options.preprocess.threshold = preset.threshold;
+}
 
 Pipeline::Pipeline(PipelineOptions options)
     : options_(std::move(options)), projector_(options_.projection) {

@@ -84,9 +84,7 @@ PipelineOptions pipeline_options_for(const SimulatedCase& c, LiftMethod lift) {
   const auto preset = std::find_if(presets.begin(), presets.end(),
                                    [&](const SensorPreset& p) { return p.name == c.sensor.name; });
   if (preset != presets.end()) {
-    options.projection.res_h_deg = preset->res_h_deg;
-    options.projection.res_v_deg = preset->res_v_deg;
-    options.preprocess.threshold = preset->threshold;
+    apply_sensor_preset(*preset, options);
   } else if (c.sensor.pattern == sim::ScanPattern::kSpinning) {
     options.projection.res_h_deg = c.sensor.azimuth_step_deg;
     options.projection.res_v_deg = closest_ring_spacing_deg(c.sensor);

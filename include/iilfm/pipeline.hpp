@@ -13,6 +13,7 @@
 #include "iilfm/marker_map.hpp"
 #include "iilfm/preprocess.hpp"
 #include "iilfm/projection.hpp"
+#include "iilfm/sensor.hpp"
 
 namespace iilfm {
 
@@ -56,6 +57,9 @@ struct FrameResult {
   std::string pose_missing_reason;  // why pose is empty (no map, no mapped marker, too few corners)
   StageTimes times_ms;
 };
+
+// Sets the preset's image resolution, field of view and naive threshold.
+void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options);
 
 class Pipeline {
  public:

@@ -2,8 +2,8 @@
 // markers, and a marker the map has in the wrong place is rejected, not averaged in.
 #include <gtest/gtest.h>
 
+#include "iilfm/eval/case.hpp"
 #include "iilfm/sensor.hpp"
-#include "sim_case.hpp"
 
 namespace iilfm::testing {
 namespace {
@@ -24,11 +24,8 @@ GridScan grid_scan(std::uint64_t seed) {
 }
 
 PipelineOptions mid40_options(MarkerMap map) {
-  const SensorPreset& preset = find_sensor_preset("mid40");
   PipelineOptions options;
-  options.projection.res_h_deg = preset.res_h_deg;
-  options.projection.res_v_deg = preset.res_v_deg;
-  options.preprocess.threshold = preset.threshold;
+  apply_sensor_preset(find_sensor_preset("mid40"), options);
   options.map = std::move(map);
   return options;
 }
@@ -41,7 +38,7 @@ TEST(MultiMarker, AllGridTagsFoundAndMoreMarkersGiveABetterPose) {
   double error_all = 0, error_one = 0;
   for (std::uint64_t seed : {1, 2, 3}) {
     const GridScan g = grid_scan(seed);
-    Pipeline all(mid40_options(map_of(g.scene.scene)));
+    Pipeline all(mid40_options(eval::map_of(g.scene.scene)));
     const FrameResult& r = all.process(g.sim.cloud);
     EXPECT_EQ(r.markers.size(), 35u) << "seed " << seed;
     for (const MarkerResult& m : r.markers) EXPECT_TRUE(m.in_map) << m.detection.id;
@@ -52,7 +49,7 @@ TEST(MultiMarker, AllGridTagsFoundAndMoreMarkersGiveABetterPose) {
 
     sim::Scene centre_only = g.scene.scene;
     centre_only.markers = {g.scene.scene.markers[17]};
-    Pipeline one(mid40_options(map_of(centre_only)));
+    Pipeline one(mid40_options(eval::map_of(centre_only)));
     const FrameResult& r1 = one.process(g.sim.cloud);
     ASSERT_TRUE(r1.pose);
     EXPECT_EQ(r1.pose->markers_used.size(), 1u);
@@ -69,7 +66,7 @@ TEST(MultiMarker, MisMappedMarkerIsRejected) {
   sim::Scene wrong = g.scene.scene;
   // The map puts tag 12 one sheet to the side of where it hangs (as if two ids were swapped).
   wrong.markers[12].T_world_marker.translation() += Vec3(0, 0.25, 0);
-  Pipeline pipeline(mid40_options(map_of(wrong)));
+  Pipeline pipeline(mid40_options(eval::map_of(wrong)));
   const FrameResult& r = pipeline.process(g.sim.cloud);
   ASSERT_TRUE(r.pose) << r.pose_missing_reason;
   ASSERT_EQ(r.pose->markers_rejected.size(), 1u);

@@ -8,31 +8,19 @@
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/sensor.hpp"
+#include "real_data.hpp"
 
 namespace iilfm {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kRealData = fs::path(IILFM_SOURCE_DIR) / ".." / "shared" / "data" / "real";
-
-std::vector<fs::path> pandar64_scans() {
-  std::vector<fs::path> scans;
-  for (const char* folder : {"opencalib_jointcalib_pandar64", "opencalib_factory_pandar64"}) {
-    if (!fs::is_directory(kRealData / folder)) continue;
-    for (const auto& entry : fs::directory_iterator(kRealData / folder))
-      if (entry.path().extension() == ".pcd") scans.push_back(entry.path());
-  }
-  std::sort(scans.begin(), scans.end());
-  return scans;
-}
+using testing::pandar64_scans;
+const fs::path kRealData = testing::real_data_dir();
 
 PipelineOptions pandar64_options(std::vector<std::string> families) {
-  const SensorPreset& preset = find_sensor_preset("pandar64");
   PipelineOptions options;
-  options.projection.res_h_deg = preset.res_h_deg;
-  options.projection.res_v_deg = preset.res_v_deg;
-  options.preprocess.threshold = preset.threshold;
+  apply_sensor_preset(find_sensor_preset("pandar64"), options);
   options.families = std::move(families);
   return options;
 }
