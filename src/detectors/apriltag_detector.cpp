@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "apriltag_families.hpp"
+#include "iilfm/apriltag_families.hpp"
 #include "iilfm/error.hpp"
 
 namespace iilfm::detail {

@@ -2,9 +2,9 @@
 #include <string>
 
 #include "apriltag_detector.hpp"
-#include "apriltag_families.hpp"
 #include "aruco_detector.hpp"
 #include "aruco_dictionaries.hpp"
+#include "iilfm/apriltag_families.hpp"
 #include "iilfm/detector.hpp"
 #include "iilfm/error.hpp"
 
@@ -19,8 +19,7 @@ struct FamilyName {
 FamilyName split_family(const std::string& name) {
   const auto colon = name.find(':');
   if (colon == std::string::npos) {
-    const std::string hint = detail::find_apriltag_family(name)
-                                 ? " (did you mean 'apriltag:" + name + "'?)"
+    const std::string hint = find_apriltag_family(name) ? " (did you mean 'apriltag:" + name + "'?)"
                              : detail::find_aruco_dictionary(name)
                                  ? " (did you mean 'aruco:" + name + "'?)"
                                  : " (expected BACKEND:FAMILY, e.g. apriltag:tag36h11)";
@@ -43,7 +42,7 @@ std::unique_ptr<MarkerDetector> make_detector(const std::string& family,
 
 std::vector<std::string> known_families() {
   std::vector<std::string> names;
-  for (const auto& entry : detail::apriltag_families())
+  for (const auto& entry : apriltag_families())
     names.push_back(std::string("apriltag:") + entry.name);
   for (const auto& entry : detail::aruco_dictionaries())
     names.push_back(std::string("aruco:") + entry.name);

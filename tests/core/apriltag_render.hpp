@@ -2,8 +2,6 @@
 // cv::Mat.
 #pragma once
 
-#include <apriltag/apriltag.h>
-
 #include <opencv2/core.hpp>
 #include <string>
 
