@@ -11,35 +11,22 @@ namespace iilfm {
 namespace {
 
 // Mean of the observed 8-neighbours for unobserved pixels with enough of them. Only the detector
-// sees these values: no 3-D point is ever made from a filled pixel.
+// sees these values: no 3-D point is ever made from a filled pixel. Box filters of the masked
+// intensity and of the mask give every pixel's neighbour sum and count in two vectorised passes.
 void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours, cv::Mat& filled,
                 cv::Mat& filled_mask) {
+  cv::Mat observed, masked, sum, count;
+  mask.convertTo(observed, CV_32F, 1.0 / 255.0);
+  cv::multiply(intensity, observed, masked);
+  cv::boxFilter(masked, sum, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::boxFilter(observed, count, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false,
+                cv::BORDER_CONSTANT);
+  const cv::Mat fillable = (mask == 0) & (count >= static_cast<float>(min_neighbours) - 0.5f);
   intensity.copyTo(filled);
-  mask.copyTo(filled_mask);
-  const int h = intensity.rows, w = intensity.cols;
-  for (int r = 0; r < h; ++r) {
-    for (int c = 0; c < w; ++c) {
-      if (mask.at<std::uint8_t>(r, c)) continue;
-      float sum = 0;
-      int n = 0;
-      for (int dr = -1; dr <= 1; ++dr) {
-        const int rr = r + dr;
-        if (rr < 0 || rr >= h) continue;
-        const std::uint8_t* m = mask.ptr<std::uint8_t>(rr);
-        const float* v = intensity.ptr<float>(rr);
-        for (int dc = -1; dc <= 1; ++dc) {
-          const int cc = c + dc;
-          if (cc < 0 || cc >= w || !m[cc]) continue;
-          sum += v[cc];
-          ++n;
-        }
-      }
-      if (n >= min_neighbours) {
-        filled.at<float>(r, c) = sum / static_cast<float>(n);
-        filled_mask.at<std::uint8_t>(r, c) = 255;
-      }
-    }
-  }
+  cv::Mat mean;
+  cv::divide(sum, cv::max(count, 1.0f), mean);
+  mean.copyTo(filled, fillable);
+  filled_mask = mask | fillable;
 }
 
 // Intensity that maps to gray 255: the 99th percentile of observed values, so a few
@@ -105,6 +92,10 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   cv::Mat filled, filled_mask;
   if (options.fill_holes) {
     fill_holes(image.intensity, image.mask, options.fill_min_neighbours, filled, filled_mask);
+    for (int pass = 1; pass < options.fill_passes; ++pass) {
+      cv::Mat previous = filled, previous_mask = filled_mask;
+      fill_holes(previous, previous_mask, options.fill_min_neighbours, filled, filled_mask);
+    }
   } else {
     filled = image.intensity;
     filled_mask = image.mask;

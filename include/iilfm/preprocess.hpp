@@ -16,6 +16,9 @@ struct PreprocessOptions {
   bool binarize = true;    // the paper's mandatory binarisation
   bool fill_holes = true;  // give unobserved pixels the mean of their observed 8-neighbours
   int fill_min_neighbours = 3;
+  // Filling passes; each pass may use the values the previous one filled in, so sparse images
+  // (a Livox after few frames) close up without widening the holes' surroundings much.
+  int fill_passes = 2;
   double blur_sigma = 0;     // Gaussian blur (pixels) after thresholding; 0 = off
   int unobserved_value = 0;  // gray value of pixels still unobserved after filling
 };

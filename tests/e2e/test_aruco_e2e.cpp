@@ -133,13 +133,13 @@ TEST(ArucoRealScans, Pandar64ScansReportNoMarkerWithEveryDictionary) {
   if (pandar64_scans().empty()) GTEST_SKIP() << "no real data at " << kRealData;
   EXPECT_EQ(markers_on_real_scans({}, true), 0u);
   EXPECT_EQ(markers_on_real_scans({}, false), 0u);  // --gray
-  // Without the filter the look-alikes are there (measured: 36 on the binary images), so the
-  // test above is not silent by accident.
+  // Without the filter the look-alikes are there (measured on the binary images: 36 with one
+  // hole-filling pass, 15 with the default two), so the test above is not silent by accident.
   ArucoOptions unfiltered;
   unfiltered.min_cell_px = 0;
   unfiltered.max_side_ratio = 1e9;
   unfiltered.min_quiet_zone = 0;
-  EXPECT_GT(markers_on_real_scans(unfiltered, true), 20u);
+  EXPECT_GE(markers_on_real_scans(unfiltered, true), 10u);
 }
 
 }  // namespace
