@@ -7,6 +7,7 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/sim/sim.hpp"
+#include "plain_wall.hpp"
 
 namespace iilfm::sim {
 namespace {
@@ -60,13 +61,7 @@ TEST(Physics, FootprintSubRaysFollowTheDivergence) {
   o.footprint_samples = 0;
   EXPECT_THROW(simulate(scene, mid40(), o), InputError);
   // A uniform wall reads the same with and without the footprint (away from its edges).
-  Wall w;
-  w.T_world_wall.linear() = facing_minus_x();
-  w.T_world_wall.translation() = Vec3(5, 0, 0);
-  w.width_m = w.height_m = 20;
-  w.reflectivity = 70;
-  Scene plain;
-  plain.walls = {w};
+  const Scene plain = testing::plain_wall(5, 20, 70);
   SimOptions p;
   p.range_sigma_m = p.intensity_sigma = 0;
   p.footprint = true;
@@ -160,13 +155,7 @@ TEST(Physics, MinimumRangeOverrideDropsCloseReturns) {
 }
 
 TEST(Physics, IntensityNoiseDefaultsToTheSensors) {
-  Wall w;
-  w.T_world_wall.linear() = facing_minus_x();
-  w.T_world_wall.translation() = Vec3(5, 0, 0);
-  w.width_m = w.height_m = 20;
-  w.reflectivity = 70;
-  Scene plain;
-  plain.walls = {w};
+  const Scene plain = testing::plain_wall(5, 20, 70);
   SensorModel sensor = vlp16();
   sensor.intensity_sigma = 9;
   SimOptions o;

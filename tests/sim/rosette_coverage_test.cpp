@@ -6,22 +6,14 @@
 #include <vector>
 
 #include "iilfm/sim/sim.hpp"
+#include "plain_wall.hpp"
 
 namespace iilfm::sim {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-Scene wall_filling_the_cone() {
-  Wall w;
-  w.T_world_wall.linear() = facing_minus_x();
-  w.T_world_wall.translation() = Vec3(10, 0, 0);
-  w.width_m = w.height_m = 40;
-  w.reflectivity = 50;
-  Scene s;
-  s.walls = {w};
-  return s;
-}
+Scene wall_filling_the_cone() { return testing::plain_wall(10, 40, 50); }
 
 // Fraction of the cells of an azimuth/elevation grid of `res_deg` inside the cone that hold a
 // point (cells cut by the cone's rim are left out).
