@@ -24,7 +24,10 @@ constexpr double kPrism2Hz = -kPrism1Hz / kGolden;
 
 void rosette_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beams) {
   const int n = points_per_frame(sensor);
+  // An elliptical cone (Avia) scales the prism sum along each axis: the petals keep their
+  // non-repeating drift, stretched to the vertical extent.
   const double a = sensor.fov_deg / 4.0 * kDegToRad;
+  const double a_v = (sensor.fov_v_deg > 0 ? sensor.fov_v_deg : sensor.fov_deg) / 4.0 * kDegToRad;
   const double w1 = 2 * kPi * kPrism1Hz, w2 = 2 * kPi * kPrism2Hz;
   const double dt = 1.0 / sensor.points_per_second;
   const std::int64_t first = static_cast<std::int64_t>(frame) * n;
@@ -33,7 +36,7 @@ void rosette_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beam
     const double t = static_cast<double>(first + k) * dt;
     // Angular offset from the axis: first component towards +y (left), second towards +z (up).
     const double oy = a * (std::cos(w1 * t) + std::cos(w2 * t));
-    const double oz = a * (std::sin(w1 * t) + std::sin(w2 * t));
+    const double oz = a_v * (std::sin(w1 * t) + std::sin(w2 * t));
     const double rho = std::hypot(oy, oz);  // angle from the axis
     Beam& b = beams[k];
     if (rho < 1e-12) {

@@ -74,6 +74,19 @@ SensorModel mid40() {
   return s;
 }
 
+// Avia data sheet: non-repetitive FoV 70.4 (h) x 77.2 (v) deg, 240 000 points/s (first
+// return), range precision 2 cm, 1 m blind zone, 190 m at 10 % reflectivity, beam divergence
+// 0.28 x 0.03 deg like the Mid-40. Its six beams are folded into one elliptical rosette.
+SensorModel avia() {
+  SensorModel s = mid40();
+  s.name = "avia";
+  s.points_per_second = 240000;
+  s.fov_deg = 70.4;
+  s.fov_v_deg = 77.2;
+  s.max_range_m = 190;
+  return s;
+}
+
 SensorModel vlp16() {
   SensorModel s = velodyne("vlp16", uniform_rings(16, -15, 15));
   s.max_range_m = 100;
@@ -101,11 +114,12 @@ SensorModel os1_64() { return os1("os1-64", 64, 1024); }
 SensorModel os1_128() { return os1("os1-128", 128, 2048); }
 
 std::vector<std::string> sensor_model_names() {
-  return {"mid40", "vlp16", "ultrapuck", "vlp16-hires", "os1-64", "os1-128"};
+  return {"mid40", "vlp16", "ultrapuck", "vlp16-hires", "os1-64", "os1-128", "avia"};
 }
 
 SensorModel sensor_model(const std::string& name) {
   if (name == "mid40") return mid40();
+  if (name == "avia") return avia();
   if (name == "vlp16") return vlp16();
   if (name == "ultrapuck") return ultra_puck();
   if (name == "vlp16-hires") return vlp16_hires();

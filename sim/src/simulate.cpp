@@ -24,7 +24,9 @@ void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOption
   if (!(sensor.points_per_second > 0) || !(sensor.frame_rate_hz > 0)) {
     throw InputError("sensor '" + sensor.name + "' needs a positive point and frame rate");
   }
-  if (sensor.pattern == ScanPattern::kRosette && !(sensor.fov_deg > 0 && sensor.fov_deg < 180)) {
+  if (sensor.pattern == ScanPattern::kRosette &&
+      (!(sensor.fov_deg > 0 && sensor.fov_deg < 180) ||
+       !(sensor.fov_v_deg >= 0 && sensor.fov_v_deg < 180))) {
     throw InputError("rosette sensor '" + sensor.name + "' needs a field of view in (0, 180) deg");
   }
   if (sensor.pattern == ScanPattern::kSpinning &&
@@ -52,7 +54,16 @@ bool in_field_of_view(const SensorModel& sensor, const Vec3& p) {
   const double n = p.norm();
   if (n == 0) return false;
   if (sensor.pattern == ScanPattern::kRosette) {
-    return std::acos(std::clamp(p.x() / n, -1.0, 1.0)) <= sensor.fov_deg / 2 * kDegToRad;
+    // Angle from the axis split along y and z as the rosette lays its offsets out; inside the
+    // (possibly elliptical) cone when the offsets fall within the ellipse of half-angles.
+    const double rho = std::acos(std::clamp(p.x() / n, -1.0, 1.0));
+    const double lateral = std::hypot(p.y(), p.z());
+    if (lateral == 0) return true;
+    const double half_h = sensor.fov_deg / 2 * kDegToRad;
+    const double half_v =
+        (sensor.fov_v_deg > 0 ? sensor.fov_v_deg : sensor.fov_deg) / 2 * kDegToRad;
+    const double u = rho * p.y() / lateral / half_h, v = rho * p.z() / lateral / half_v;
+    return u * u + v * v <= 1 + 1e-12;
   }
   const auto [lowest, highest] =
       std::minmax_element(sensor.ring_elevations_deg.begin(), sensor.ring_elevations_deg.end());

@@ -7,19 +7,21 @@
 namespace iilfm::sim {
 
 enum class ScanPattern {
-  kRosette,   // Livox-style Risley prisms: a non-repeating flower inside a circular cone
+  kRosette,   // Livox-style Risley prisms: a non-repeating flower inside a circular or elliptical
+              // cone
   kSpinning,  // Velodyne-style: a column of fixed-elevation rings fired at every azimuth step
 };
 
 struct SensorModel {
-  std::string name;  // "mid40", "vlp16", "vlp16-hires", "ultrapuck", "os1-64", "os1-128"
+  std::string name;  // "mid40", "avia", "vlp16", "vlp16-hires", "ultrapuck", "os1-64", "os1-128"
   ScanPattern pattern = ScanPattern::kRosette;
   double points_per_second = 0;
   double frame_rate_hz = 10;
   double range_sigma_m = 0;    // default 1-sigma range noise along the beam
   double intensity_sigma = 4;  // default additive intensity noise (same units as the print)
   double min_range_m = 0, max_range_m = 0;
-  double fov_deg = 0;                       // rosette: full cone angle (Mid-40: 38.4)
+  double fov_deg = 0;    // rosette: full cone angle (Mid-40: 38.4); horizontal if fov_v_deg is set
+  double fov_v_deg = 0;  // rosette: full vertical angle of an elliptical cone; 0 = circular
   std::vector<double> ring_elevations_deg;  // spinning: index = ring number, ring 0 lowest
   double azimuth_step_deg = 0;              // spinning: column step
   // Full beam divergence across (horizontal, along the azimuth) and up (vertical): the footprint
@@ -27,7 +29,10 @@ struct SensorModel {
   double divergence_h_deg = 0, divergence_v_deg = 0;
 };
 
-SensorModel mid40();        // Livox Mid-40: 38.4 deg circular FoV, 100k pts/s, sigma 0.02 m
+SensorModel mid40();  // Livox Mid-40: 38.4 deg circular FoV, 100k pts/s, sigma 0.02 m
+// Livox Avia, non-repetitive mode: 70.4 x 77.2 deg, 240k pts/s, sigma 0.02 m (an elliptical
+// rosette standing in for the real six-beam pattern; docs/simulator.md).
+SensorModel avia();
 SensorModel vlp16();        // Velodyne VLP-16: 16 rings -15..+15 deg, 0.2 deg columns, sigma 0.03 m
 SensorModel vlp16_hires();  // Velodyne VLP-16 Hi-Res (Puck Hi-Res): 16 rings -10..+10 deg, 1.33 deg
 SensorModel ultra_puck();   // Velodyne ULTRA Puck / VLP-32C: 32 non-uniform rings, 0.2 deg columns
