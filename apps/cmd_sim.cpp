@@ -18,15 +18,19 @@ namespace {
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 struct SimArgs {
-  std::string sensor, out, truth, map, scene = "tag-wall", family;
+  std::string sensor, out, truth, map, scene = "tag-wall", scene_file, family;
   int frames = 0, id = 0;
   std::uint64_t seed = 1;
-  double range_sigma = -1, intensity_sigma = 4, angle_sigma = 0;
+  double range_sigma = -1, intensity_sigma = -1, angle_sigma = 0;
   double marker_size = 0, distance = 0;
+  bool footprint = false;
+  int footprint_samples = 5;
+  double dark_dropout = 0, invalid_fraction = 0, min_range = -1;
+  std::string invalid_as = "nan";
   std::vector<double> lidar_xyz, lidar_rpy;
   // Options whose absence means "the scene's default".
-  CLI::Option *sensor_opt, *frames_opt, *range_sigma_opt, *family_opt, *id_opt, *size_opt,
-      *distance_opt;
+  CLI::Option *sensor_opt, *frames_opt, *range_sigma_opt, *intensity_sigma_opt, *min_range_opt,
+      *family_opt, *id_opt, *size_opt, *distance_opt, *scene_opt;
 };
 
 void require(bool ok, const std::string& message) {
@@ -48,7 +52,42 @@ bool all_finite(const std::vector<double>& values) {
   return true;
 }
 
-int run_sim(const SimArgs& a) {
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
+
+// The optional physics of SimOptions (all off unless asked for).
+void apply_physics_switches(const SimArgs& a, sim::SimOptions& options) {
+  options.footprint = a.footprint;
+  require(a.footprint_samples >= 1 && a.footprint_samples <= 50,
+          "--footprint-samples must be 1..50");
+  options.footprint_samples = a.footprint_samples;
+  auto probability = [](double p) { return p >= 0 && p <= 1; };
+  require(probability(a.dark_dropout), "--dark-dropout must be a probability in [0, 1]");
+  options.dark_dropout = a.dark_dropout;
+  require(probability(a.invalid_fraction), "--invalid-fraction must be a fraction in [0, 1]");
+  options.invalid_fraction = a.invalid_fraction;
+  require(a.invalid_as == "nan" || a.invalid_as == "zero", "--invalid-as must be nan or zero");
+  options.invalid_as =
+      a.invalid_as == "nan" ? sim::SimOptions::Invalid::kNaN : sim::SimOptions::Invalid::kZero;
+  if (a.min_range_opt->count()) {
+    require(a.min_range >= 0 && std::isfinite(a.min_range),
+            "--min-range must be a non-negative number of metres");
+    options.min_range_m = a.min_range;
+  }
+}
+
+// A scene file describes everything the named scenes' parameters would change.
+sim::SceneSetup scene_from_file(const SimArgs& a) {
+  for (const CLI::Option* o : {a.scene_opt, a.family_opt, a.id_opt, a.size_opt, a.distance_opt}) {
+    require(o->count() == 0, o->get_name() + " does not apply with --scene-file");
+  }
+  return sim::read_scene_yaml(a.scene_file);
+}
+
+sim::SceneSetup scene_by_name(const SimArgs& a) {
   sim::SceneParams params;
   if (a.family_opt->count()) params.family = a.family;
   if (a.id_opt->count()) params.id = a.id;
@@ -62,7 +101,11 @@ int run_sim(const SimArgs& a) {
             "--distance must be a positive number of metres");
     params.distance_m = a.distance;
   }
-  const sim::SceneSetup setup = sim::named_scene(a.scene, params);
+  return sim::named_scene(a.scene, params);
+}
+
+int run_sim(const SimArgs& a) {
+  const sim::SceneSetup setup = a.scene_file.empty() ? scene_by_name(a) : scene_from_file(a);
   const sim::SensorModel sensor =
       sim::sensor_model(a.sensor_opt->count() ? a.sensor : setup.sensor);
 
@@ -87,12 +130,15 @@ int run_sim(const SimArgs& a) {
             "--range-sigma must be a non-negative number of metres");
     options.range_sigma_m = a.range_sigma;
   }
-  require(a.intensity_sigma >= 0 && std::isfinite(a.intensity_sigma),
-          "--intensity-sigma must be non-negative");
-  options.intensity_sigma = a.intensity_sigma;
+  if (a.intensity_sigma_opt->count()) {
+    require(a.intensity_sigma >= 0 && std::isfinite(a.intensity_sigma),
+            "--intensity-sigma must be non-negative");
+    options.intensity_sigma = a.intensity_sigma;
+  }
   require(a.angle_sigma >= 0 && std::isfinite(a.angle_sigma),
           "--angle-sigma must be a non-negative number of degrees");
   options.angle_sigma_deg = a.angle_sigma;
+  apply_physics_switches(a, options);
 
   const sim::SimResult result = sim::simulate(setup.scene, sensor, options);
   io::write_pcd(a.out, result.cloud);
@@ -109,8 +155,8 @@ int run_sim(const SimArgs& a) {
   for (const sim::MarkerTruth& m : result.truth.markers) visible += m.visible ? 1 : 0;
   std::cout << "iilfm sim: " << result.cloud.size() << " points (" << sensor.name << ", "
             << options.frames << " frame" << (options.frames == 1 ? "" : "s") << ", scene "
-            << a.scene << ", " << visible << "/" << result.truth.markers.size()
-            << " markers visible) -> " << written << "\n";
+            << (a.scene_file.empty() ? a.scene : a.scene_file) << ", " << visible << "/"
+            << result.truth.markers.size() << " markers visible) -> " << written << "\n";
   return 0;
 }
 
@@ -120,22 +166,40 @@ Runner register_sim_command(CLI::App& app) {
   auto args = std::make_shared<SimArgs>();
   CLI::App* sub = app.add_subcommand("sim", "Simulate a LiDAR scan of markers on a wall");
   SimArgs& a = *args;
-  a.sensor_opt = sub->add_option("--sensor", a.sensor,
-                                 "Simulated sensor: mid40, vlp16, ultrapuck (default: the "
-                                 "scene's, mid40 or ultrapuck for ccw10m)");
+  a.sensor_opt = sub->add_option(
+      "--sensor", a.sensor,
+      "Simulated sensor: " + joined(sim::sensor_model_names()) + " (default: the scene's)");
   sub->add_option("--out", a.out, "Output point cloud (binary PCD)")->required();
   sub->add_option("--truth", a.truth, "Write the ground truth JSON here");
   sub->add_option("--map", a.map, "Write the scene's marker map YAML here");
-  sub->add_option("--scene", a.scene, "Scene: tag-wall, grid, ccw10m")->capture_default_str();
+  a.scene_opt = sub->add_option("--scene", a.scene, "Scene: " + joined(sim::named_scene_names()))
+                    ->capture_default_str();
+  sub->add_option("--scene-file", a.scene_file,
+                  "Scene YAML file (docs/simulator.md), e.g. data/scenes/room.yaml");
   a.frames_opt = sub->add_option("--frames", a.frames,
                                  "Integrated frames of 0.1 s (default 40 rosette, 1 spinning)");
   sub->add_option("--seed", a.seed, "Noise seed")->capture_default_str();
   a.range_sigma_opt = sub->add_option("--range-sigma", a.range_sigma,
                                       "Range noise sigma in metres (default: the sensor's)");
-  sub->add_option("--intensity-sigma", a.intensity_sigma, "Intensity noise sigma")
-      ->capture_default_str();
+  a.intensity_sigma_opt = sub->add_option("--intensity-sigma", a.intensity_sigma,
+                                          "Intensity noise sigma (default: the sensor's, 4)");
   sub->add_option("--angle-sigma", a.angle_sigma, "Beam direction jitter sigma in degrees")
       ->capture_default_str();
+  sub->add_flag("--footprint", a.footprint,
+                "Beam divergence: intensity averaged over the footprint (grey mixed edges)");
+  sub->add_option("--footprint-samples", a.footprint_samples,
+                  "Sub-rays along the footprint's longer axis")
+      ->capture_default_str();
+  sub->add_option("--dark-dropout", a.dark_dropout,
+                  "Probability that a return on black print is lost")
+      ->capture_default_str();
+  sub->add_option("--invalid-fraction", a.invalid_fraction,
+                  "Share of beams written as invalid points, as drivers emit")
+      ->capture_default_str();
+  sub->add_option("--invalid-as", a.invalid_as, "Invalid points as nan or zero coordinates")
+      ->capture_default_str();
+  a.min_range_opt = sub->add_option("--min-range", a.min_range,
+                                    "Minimum range in metres (default: the sensor's)");
   a.family_opt = sub->add_option("--family", a.family,
                                  "Marker family, e.g. apriltag:tag36h11 (default: the scene's)");
   a.id_opt = sub->add_option("--id", a.id, "Marker id (grid: id of the top-left marker)");

@@ -58,7 +58,7 @@ bool in_field_of_view(const SensorModel& sensor, const Vec3& p) {
     // (possibly elliptical) cone when the offsets fall within the ellipse of half-angles.
     const double rho = std::acos(std::clamp(p.x() / n, -1.0, 1.0));
     const double lateral = std::hypot(p.y(), p.z());
-    if (lateral == 0) return true;
+    if (lateral == 0) return p.x() > 0;  // on the axis, ahead or behind
     const double half_h = sensor.fov_deg / 2 * kDegToRad;
     const double half_v =
         (sensor.fov_v_deg > 0 ? sensor.fov_v_deg : sensor.fov_deg) / 2 * kDegToRad;

@@ -4,6 +4,7 @@
 #include "iilfm/sim/ground_truth_io.hpp"
 #include "iilfm/sim/marker_texture.hpp"
 #include "iilfm/sim/scene.hpp"
+#include "iilfm/sim/scene_file.hpp"
 #include "iilfm/sim/scenes.hpp"
 #include "iilfm/sim/sensor_models.hpp"
 #include "iilfm/sim/simulate.hpp"
