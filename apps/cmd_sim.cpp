@@ -27,7 +27,7 @@ struct SimArgs {
   int footprint_samples = 5;
   double dark_dropout = 0, invalid_fraction = 0, min_range = -1;
   std::string invalid_as = "nan";
-  std::vector<double> lidar_xyz, lidar_rpy;
+  std::vector<double> lidar_xyz, lidar_rpy, velocity, angular_velocity;
   // Options whose absence means "the scene's default".
   CLI::Option *sensor_opt, *frames_opt, *range_sigma_opt, *intensity_sigma_opt, *min_range_opt,
       *family_opt, *id_opt, *size_opt, *distance_opt, *scene_opt;
@@ -139,6 +139,16 @@ int run_sim(const SimArgs& a) {
           "--angle-sigma must be a non-negative number of degrees");
   options.angle_sigma_deg = a.angle_sigma;
   apply_physics_switches(a, options);
+  if (!a.velocity.empty()) {
+    require(all_finite(a.velocity), "--velocity needs three finite numbers in m/s");
+    options.linear_velocity = Vec3(a.velocity[0], a.velocity[1], a.velocity[2]);
+  }
+  if (!a.angular_velocity.empty()) {
+    require(all_finite(a.angular_velocity),
+            "--angular-velocity needs three finite numbers in deg/s");
+    options.angular_velocity =
+        Vec3(a.angular_velocity[0], a.angular_velocity[1], a.angular_velocity[2]) * kDegToRad;
+  }
 
   const sim::SimResult result = sim::simulate(setup.scene, sensor, options);
   io::write_pcd(a.out, result.cloud);
@@ -211,6 +221,12 @@ Runner register_sim_command(CLI::App& app) {
   sub->add_option("--lidar-xyz", a.lidar_xyz, "LiDAR position in the world (overrides --distance)")
       ->expected(3);
   sub->add_option("--lidar-rpy", a.lidar_rpy, "LiDAR roll pitch yaw in degrees (extrinsic x-y-z)")
+      ->expected(3);
+  sub->add_option("--velocity", a.velocity,
+                  "Sensor velocity in m/s along the LiDAR axes at the scan start (skews the cloud)")
+      ->expected(3);
+  sub->add_option("--angular-velocity", a.angular_velocity,
+                  "Sensor turn rate in deg/s about its own x y z axes")
       ->expected(3);
   return [args]() { return run_sim(*args); };
 }

@@ -32,7 +32,8 @@ BeamFootprint::BeamFootprint(const SensorModel& sensor, int samples) {
   }
 }
 
-FootprintReturn BeamFootprint::cast(const SceneRaycaster& raycaster, const Vec3& direction) const {
+FootprintReturn BeamFootprint::cast(const SceneRaycaster& raycaster, const Vec3& origin,
+                                    const Vec3& direction) const {
   // Across = the direction of growing azimuth (left), up = the direction of growing elevation.
   const Vec3 horizontal = Vec3::UnitZ().cross(direction);
   const Vec3 across = horizontal.norm() > 1e-9 ? horizontal.normalized() : Vec3::UnitY();
@@ -41,7 +42,7 @@ FootprintReturn BeamFootprint::cast(const SceneRaycaster& raycaster, const Vec3&
   RayHit hit;
   for (const Vec2& o : offsets_) {
     const Vec3 sub = (direction + o.x() * across + o.y() * up).normalized();
-    if (!raycaster.cast(sub, &hit)) continue;
+    if (!raycaster.cast_from(origin, sub, &hit)) continue;
     result.intensity += hit.intensity;
     result.black_fraction += hit.on_black_print ? 1 : 0;
   }

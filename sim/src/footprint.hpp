@@ -21,7 +21,12 @@ class BeamFootprint {
   // along the shorter; a uniform grid over the full divergence angle.
   BeamFootprint(const SensorModel& sensor, int samples);
 
-  FootprintReturn cast(const SceneRaycaster& raycaster, const Vec3& direction) const;
+  FootprintReturn cast(const SceneRaycaster& raycaster, const Vec3& direction) const {
+    return cast(raycaster, Vec3::Zero(), direction);
+  }
+  // From `origin` (LiDAR frame), as a moving sensor casts.
+  FootprintReturn cast(const SceneRaycaster& raycaster, const Vec3& origin,
+                       const Vec3& direction) const;
 
   std::size_t sub_rays() const { return offsets_.size(); }
 

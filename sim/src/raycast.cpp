@@ -55,13 +55,13 @@ SceneRaycaster::SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_worl
   }
 }
 
-bool SceneRaycaster::intersect(const Rectangle& r, const Vec3& direction, bool front_only,
-                               double* range, double* local_x, double* local_y) {
+bool SceneRaycaster::intersect(const Rectangle& r, const Vec3& origin, const Vec3& direction,
+                               bool front_only, double* range, double* local_x, double* local_y) {
   const double facing = r.normal.dot(direction);
   if (facing == 0 || (front_only && facing > 0)) return false;
-  const double t = r.normal.dot(r.centre) / facing;
+  const double t = r.normal.dot(r.centre - origin) / facing;
   if (t <= 0) return false;
-  const Vec3 offset = t * direction - r.centre;
+  const Vec3 offset = origin + t * direction - r.centre;
   const double lx = r.x_axis.dot(offset), ly = r.y_axis.dot(offset);
   if (std::abs(lx) > r.half_width || std::abs(ly) > r.half_height) return false;
   *range = t;
@@ -81,11 +81,12 @@ bool SceneRaycaster::on_black_cell(const Sheet& sheet, double local_x, double lo
   return texture.is_black(row, col);
 }
 
-bool SceneRaycaster::cast(const Vec3& direction, RayHit* hit) const {
+bool SceneRaycaster::cast_from(const Vec3& origin, const Vec3& direction, RayHit* hit) const {
+  const bool at_origin = origin.isZero(0);
   double best = INFINITY, range, lx, ly;
   bool found = false;
   for (std::size_t i = 0; i < walls_.size(); ++i) {
-    if (intersect(walls_[i], direction, false, &range, &lx, &ly) && range < best) {
+    if (intersect(walls_[i], origin, direction, false, &range, &lx, &ly) && range < best) {
       best = range;
       hit->intensity = wall_reflectivity_[i];
       found = true;
@@ -96,8 +97,8 @@ bool SceneRaycaster::cast(const Vec3& direction, RayHit* hit) const {
   hit->on_black_print = false;
   for (std::size_t i = 0; i < sheets_.size(); ++i) {
     const Sheet& sheet = sheets_[i];
-    if (direction.dot(sheet.towards_centre) < sheet.cos_cone) continue;
-    if (intersect(sheet.rect, direction, true, &range, &lx, &ly) &&
+    if (at_origin && direction.dot(sheet.towards_centre) < sheet.cos_cone) continue;
+    if (intersect(sheet.rect, origin, direction, true, &range, &lx, &ly) &&
         range < best + kFlushTolerance) {
       best = std::min(best, range);
       hit->on_black_print = on_black_cell(sheet, lx, ly);

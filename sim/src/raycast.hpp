@@ -1,5 +1,5 @@
 // Internal: the scene moved into the LiDAR frame as flat rectangles, and rays cast from the
-// LiDAR origin against them.
+// LiDAR origin (or, for a moving sensor, from where the LiDAR is at the beam's time) against them.
 #pragma once
 
 #include <vector>
@@ -24,7 +24,13 @@ class SceneRaycaster {
   SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_world);
 
   // Nearest surface along `direction` (unit, LiDAR frame) from the LiDAR origin; false if none.
-  bool cast(const Vec3& direction, RayHit* hit) const;
+  bool cast(const Vec3& direction, RayHit* hit) const {
+    return cast_from(Vec3::Zero(), direction, hit);
+  }
+
+  // The same from `origin` (LiDAR frame). Off the origin the per-sheet cones do not apply, so
+  // every sheet is tested.
+  bool cast_from(const Vec3& origin, const Vec3& direction, RayHit* hit) const;
 
  private:
   struct Rectangle {
@@ -41,8 +47,8 @@ class SceneRaycaster {
   };
 
   // Ray parameter and in-plane coordinates of a hit on `r`, or false when the ray misses it.
-  static bool intersect(const Rectangle& r, const Vec3& direction, bool front_only, double* range,
-                        double* local_x, double* local_y);
+  static bool intersect(const Rectangle& r, const Vec3& origin, const Vec3& direction,
+                        bool front_only, double* range, double* local_x, double* local_y);
   bool on_black_cell(const Sheet& sheet, double local_x, double local_y) const;
 
   std::vector<Rectangle> walls_;

@@ -41,6 +41,9 @@ void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOption
   if (!probability(options.dark_dropout) || !probability(options.invalid_fraction)) {
     throw InputError("dark dropout and invalid fraction must be probabilities in [0, 1]");
   }
+  if (!options.linear_velocity.allFinite() || !options.angular_velocity.allFinite()) {
+    throw InputError("sensor velocities must be finite");
+  }
   for (const MarkerSpec& m : scene.markers) {
     if (!(m.size_m > 0)) {
       throw InputError("marker " + m.family + "/" + std::to_string(m.id) +
@@ -87,7 +90,22 @@ SensorModel effective_sensor(const SensorModel& sensor, const SimOptions& option
   return s;
 }
 
+// The LiDAR at `time_s` in the LiDAR frame at time 0 (constant velocities, SimOptions).
+Isometry3 start_from_now(const SimOptions& options, double time_s) {
+  Isometry3 T = Isometry3::Identity();
+  T.translation() = options.linear_velocity * time_s;
+  const double angle = options.angular_velocity.norm() * time_s;
+  if (angle != 0) {
+    T.linear() = Eigen::AngleAxisd(angle, options.angular_velocity.normalized()).toRotationMatrix();
+  }
+  return T;
+}
+
 }  // namespace
+
+Isometry3 lidar_pose_at(const SimOptions& options, double time_s) {
+  return options.T_world_lidar * start_from_now(options, time_s);
+}
 
 GroundTruth ground_truth(const Scene& scene, const SensorModel& nominal,
                          const SimOptions& options) {
@@ -132,6 +150,7 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
       options.intensity_sigma < 0 ? sensor.intensity_sigma : options.intensity_sigma;
   const double angle_sigma = options.angle_sigma_deg * kDegToRad;
   const bool spinning = sensor.pattern == ScanPattern::kSpinning;
+  const bool moving = !options.linear_velocity.isZero(0) || !options.angular_velocity.isZero(0);
 
   const SceneRaycaster raycaster(scene, options.T_world_lidar.inverse());
   std::optional<BeamFootprint> footprint;
@@ -160,8 +179,16 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
       // noise per beam whatever the scene.
       const double range_noise = range_sigma * normal.next();
       const double intensity_noise = intensity_sigma * normal.next();
-      const Vec3 cast_direction =
+      Vec3 cast_direction =
           angle_sigma > 0 ? jittered(beam.direction, angle_sigma, normal) : beam.direction;
+      // A moving sensor casts from where it is at the beam's time; the scene stays in the
+      // frame of time 0, so the ray moves into that frame instead.
+      Vec3 origin = Vec3::Zero();
+      if (moving) {
+        const Isometry3 T = start_from_now(options, beam.time);
+        origin = T.translation();
+        cast_direction = T.linear() * cast_direction;
+      }
       const bool invalid =
           options.invalid_fraction > 0 && uniform.next() < options.invalid_fraction;
       const double dropout_draw = options.dark_dropout > 0 ? uniform.next() : 1.0;
@@ -169,13 +196,13 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
         emit(invalid_point, 0, beam);
         continue;
       }
-      if (!raycaster.cast(cast_direction, &hit)) continue;
+      if (!raycaster.cast_from(origin, cast_direction, &hit)) continue;
       const double range = hit.range + range_noise;
       if (range < sensor.min_range_m || range > sensor.max_range_m) continue;
       double intensity = hit.intensity;
       double black_fraction = hit.on_black_print ? 1 : 0;
       if (footprint) {
-        const FootprintReturn spot = footprint->cast(raycaster, cast_direction);
+        const FootprintReturn spot = footprint->cast(raycaster, origin, cast_direction);
         intensity = spot.intensity;
         black_fraction = spot.black_fraction;
       }

@@ -174,5 +174,25 @@ TEST_F(SimCli, SceneFileRunsTheShippedRoomAndRejectsNamedSceneSwitches) {
       << broken.err;
 }
 
+TEST_F(SimCli, VelocitySwitchesSkewTheCloud) {
+  // Driving at the tag wall at 5 m/s for 0.1 s: the last points read the wall 0.5 m closer.
+  ASSERT_EQ(run_sim("--sensor vlp16 --range-sigma 0 --velocity 5 0 0 --angular-velocity 0 0 0 "
+                    "--out " +
+                    pcd("moving"))
+                .status,
+            0);
+  const PointCloud c = io::read_pcd(pcd("moving")).cloud;
+  int on_wall = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (std::abs(c.y[i]) > 0.5 || std::abs(c.z[i]) > 0.3) continue;  // the wall ahead
+    EXPECT_NEAR(c.x[i], 2 - 5 * c.time[i], 1e-4) << i;
+    ++on_wall;
+  }
+  EXPECT_GT(on_wall, 10);
+  const CliRun bad = run_sim("--velocity 1 nan 0 --out " + pcd("x"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--velocity"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace iilfm::sim

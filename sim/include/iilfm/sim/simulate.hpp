@@ -36,6 +36,16 @@ struct SimOptions {
   // returns: NaN coordinates or (0, 0, 0), intensity 0.
   double invalid_fraction = 0;
   enum class Invalid { kNaN, kZero } invalid_as = Invalid::kNaN;
+
+  // A moving sensor, for motion-distortion work: constant velocities from T_world_lidar at
+  // time 0 (the start of frame 0). `linear_velocity` (m/s) is along the axes of the LiDAR frame
+  // at time 0 and constant in the world; `angular_velocity` (rad/s) is about the LiDAR's own
+  // axes. Pose at time t: R(t) = R0 Exp(w t), p(t) = p0 + R0 v t (lidar_pose_at). Each beam is
+  // cast from the pose at its own time stamp and its point is written in the LiDAR frame at
+  // that time, as a driver writes it, so the cloud is skewed; the ground truth keeps the pose
+  // at time 0.
+  Vec3 linear_velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
 };
 
 struct MarkerTruth {
@@ -68,6 +78,9 @@ struct SimResult {
 // InputError for an unknown family, an id outside the family, a non-positive size, frames < 1, or
 // options out of range (footprint_samples < 1, probabilities outside [0, 1]).
 SimResult simulate(const Scene& scene, const SensorModel& sensor, const SimOptions& options);
+
+// T_world_lidar at `time_s` seconds after the start of frame 0 under the options' velocities.
+Isometry3 lidar_pose_at(const SimOptions& options, double time_s);
 
 // The ground truth alone (no ray casting); simulate() fills points_on_marker on top of it.
 GroundTruth ground_truth(const Scene& scene, const SensorModel& sensor, const SimOptions& options);
