@@ -23,8 +23,11 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// Pose of a square marker from its lifted corners, when its size is known.
-void estimate_marker_pose(MarkerResult& marker, double size) {
+// Pose of a square marker from its lifted corners, when its size is known. With `fit_square`
+// and all four corners lifted, the corners are replaced by the least-squares square of that size
+// in the fitted pose (their independent errors average out); the fit's RMS says how far the
+// detection was from that square.
+void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square) {
   const auto model = marker_frame_corners(size);
   std::vector<Vec3> source, target;
   for (std::size_t k = 0; k < marker.corners.size() && k < model.size(); ++k) {
@@ -36,6 +39,9 @@ void estimate_marker_pose(MarkerResult& marker, double size) {
   if (!fit.ok) return;
   marker.T_lidar_marker = fit.T;
   marker.marker_fit_rms = fit.rms;
+  if (fit_square && source.size() == 4 && marker.corners.size() == 4) {
+    for (std::size_t k = 0; k < 4; ++k) marker.corners[k].point = fit.T * model[k];
+  }
 }
 
 }  // namespace
@@ -96,7 +102,7 @@ const FrameResult& Pipeline::process(const PointCloud& cloud) {
     marker.in_map = mapped != nullptr;
     const std::optional<double> size =
         mapped ? std::optional<double>(mapped->size) : options_.marker_size;
-    if (size) estimate_marker_pose(marker, *size);
+    if (size) estimate_marker_pose(marker, *size, options_.fit_known_size);
     r.markers.push_back(std::move(marker));
   }
   r.times_ms.lift = watch.lap_ms();

@@ -33,13 +33,16 @@ struct PipelineOptions {
   std::optional<double> marker_size;  // edge of the black square for markers not in the map
   std::optional<MarkerMap> map;       // enables the LiDAR pose
   LidarPoseOptions pose;
+  // When a marker's size is known (map or marker_size), report the square of that size fitted to
+  // its four lifted corners instead of the corners themselves.
+  bool fit_known_size = true;
 };
 
 struct MarkerResult {
   Detection detection;
   std::vector<LiftedCorner> corners;        // one per detection keypoint, same order
   std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
-  double marker_fit_rms = 0;                // residual of that fit, metres
+  double marker_fit_rms = 0;  // residual of that fit, metres: how far from a square of that size
   std::optional<Plane> plane;               // the fitted marker plane (plane lifting)
   bool in_map = false;
 };
