@@ -132,9 +132,10 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
     options.projection.collision = CollisionPolicy::kNearest;
   else if (args.collision != "mean")
     throw InputError("--collision must be 'mean' or 'nearest', got '" + args.collision + "'");
-  if (args.lift == "paper")
+  if (args.lift == "paper") {
     options.lift = LiftMethod::kPaper;
-  else if (args.lift != "plane")
+    options.fit_known_size = false;  // the paper's four corners, as lifted
+  } else if (args.lift != "plane")
     throw InputError("--lift must be 'plane' or 'paper', got '" + args.lift + "'");
 
   if (!args.markers.empty()) options.families = args.markers;

@@ -101,6 +101,8 @@ PipelineOptions pipeline_options_for(const SimulatedCase& c, LiftMethod lift) {
   options.families = families;
   options.map = map_of(c.setup.scene);
   options.lift = lift;
+  // The paper's method reports its four lifted corners as they are.
+  options.fit_known_size = lift != LiftMethod::kPaper;
   return options;
 }
 
