@@ -39,6 +39,57 @@ MarkerSpec wall_marker(const std::string& family, int id, double size_m, double 
   return m;
 }
 
+Wall upright_wall(const Vec3& centre, double facing_azimuth_deg, double width_m, double height_m,
+                  float reflectivity) {
+  // Facing -x is the orientation markers on the named scenes' walls use; turn it about z.
+  const double turn = (facing_azimuth_deg - 180) * kDegToRad;
+  Wall w;
+  w.T_world_wall.linear() =
+      Eigen::AngleAxisd(turn, Vec3::UnitZ()).toRotationMatrix() * facing_minus_x();
+  w.T_world_wall.translation() = centre;
+  w.width_m = width_m;
+  w.height_m = height_m;
+  w.reflectivity = reflectivity;
+  return w;
+}
+
+std::vector<Wall> box_walls(const Vec3& centre, const Vec3& size, double yaw_deg,
+                            float reflectivity) {
+  const Mat3 yaw = Eigen::AngleAxisd(yaw_deg * kDegToRad, Vec3::UnitZ()).toRotationMatrix();
+  std::vector<Wall> walls;
+  for (int axis = 0; axis < 3; ++axis) {
+    // The face across `axis` spans the other two axes, its normal along `axis`.
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    Mat3 face;
+    face.col(0) = yaw.col(a);
+    face.col(1) = yaw.col(b);
+    face.col(2) = yaw.col(axis);
+    for (int sign : {-1, 1}) {
+      Wall w;
+      w.T_world_wall.linear() = face;
+      w.T_world_wall.translation() = centre + sign * size[axis] / 2 * yaw.col(axis);
+      w.width_m = size[a];
+      w.height_m = size[b];
+      w.reflectivity = reflectivity;
+      walls.push_back(w);
+    }
+  }
+  return walls;
+}
+
+MarkerSpec marker_on_wall(const Wall& wall, const std::string& family, int id, double size_m,
+                          double u, double v, double in_plane_deg) {
+  MarkerSpec m;
+  m.family = family;
+  m.id = id;
+  m.size_m = size_m;
+  m.T_world_marker.translation() = wall.T_world_wall * Vec3(u, v, 0);
+  m.T_world_marker.linear() =
+      wall.T_world_wall.linear() *
+      Eigen::AngleAxisd(in_plane_deg * kDegToRad, Vec3::UnitZ()).toRotationMatrix();
+  return m;
+}
+
 Scene wall_scene(const std::vector<MarkerSpec>& markers, double wall_x, double floor_z,
                  double wall_width_m, double wall_height_m) {
   constexpr double kFloorDepth = 10;  // how far the floor reaches back from the wall

@@ -17,7 +17,6 @@
 namespace iilfm::sim {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 constexpr float kDefaultReflectivity = 60;  // matt paint, as the named scenes use
 
 class SceneReader {
@@ -163,32 +162,15 @@ class SceneReader {
     return w;
   }
 
-  // A box is its six faces; local axes follow yaw_deg about world z.
   void append_box(const YAML::Node& n, const std::string& where, std::vector<Wall>& walls) const {
     allow_keys(n, where, {"name", "centre", "size", "yaw_deg", "reflectivity"});
     const Vec3 centre = vector<3>(n, "centre", where, true);
     const Vec3 size = vector<3>(n, "size", where, true);
     if (!(size.minCoeff() > 0)) fail(where, "'size' must be three positive lengths");
-    const Mat3 yaw = Eigen::AngleAxisd(number(n, "yaw_deg", where, 0) * kDegToRad, Vec3::UnitZ())
-                         .toRotationMatrix();
     const float reflectivity =
         static_cast<float>(number(n, "reflectivity", where, kDefaultReflectivity));
-    for (int axis = 0; axis < 3; ++axis) {
-      // The face normal to `axis` spans the other two axes.
-      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-      Mat3 face;
-      face.col(0) = yaw.col(a);
-      face.col(1) = yaw.col(b);
-      face.col(2) = yaw.col(axis);
-      for (int sign : {-1, 1}) {
-        Wall w;
-        w.T_world_wall.linear() = face;
-        w.T_world_wall.translation() = centre + sign * size[axis] / 2 * yaw.col(axis);
-        w.width_m = size[a];
-        w.height_m = size[b];
-        w.reflectivity = reflectivity;
-        walls.push_back(w);
-      }
+    for (const Wall& face : box_walls(centre, size, number(n, "yaw_deg", where, 0), reflectivity)) {
+      walls.push_back(face);
     }
   }
 
@@ -230,12 +212,8 @@ class SceneReader {
                       " and " + std::to_string(wall.height_m / 2) + " m)");
     }
     // Printed on the wall's front (its local +z side), upright along the wall's y, then turned.
-    const double angle = number(n, "angle_deg", where, 0) * kDegToRad;
-    m.T_world_marker = wall.T_world_wall;
-    m.T_world_marker.translation() = wall.T_world_wall * Vec3(at.x(), at.y(), 0);
-    m.T_world_marker.linear() =
-        wall.T_world_wall.linear() * Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix();
-    return m;
+    return marker_on_wall(wall, m.family, m.id, m.size_m, at.x(), at.y(),
+                          number(n, "angle_deg", where, 0));
   }
 };
 

@@ -1,4 +1,5 @@
-// Named scenes: the paper's single-tag and grid set-ups, and LiDARTag's ccw_10m benchmark.
+// Named scenes: the paper's single-tag and grid set-ups, LiDARTag's ccw_10m benchmark, and the
+// rooms of room_scenes.cpp.
 #include "iilfm/sim/scenes.hpp"
 
 #include <algorithm>
@@ -6,6 +7,7 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/sim/marker_texture.hpp"
+#include "room_scenes.hpp"
 
 namespace iilfm::sim {
 namespace {
@@ -120,12 +122,16 @@ SceneSetup ccw10m(const SceneParams& p) {
 
 }  // namespace
 
-std::vector<std::string> named_scene_names() { return {"tag-wall", "grid", "ccw10m"}; }
+std::vector<std::string> named_scene_names() {
+  return {"tag-wall", "grid", "ccw10m", "room", "around"};
+}
 
 SceneSetup named_scene(const std::string& name, const SceneParams& params) {
   if (name == "tag-wall") return tag_wall(params);
   if (name == "grid") return grid(params);
   if (name == "ccw10m") return ccw10m(params);
+  if (name == "room") return room_scene(params);
+  if (name == "around") return around_scene(params);
   std::string known;
   for (const std::string& n : named_scene_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown simulated scene '" + name + "' (known: " + known + ")");

@@ -151,6 +151,16 @@ TEST(SceneFile, ShippedExamplesLoadAndShowTheirMarkers) {
   }
 }
 
+TEST(SceneFile, ShippedExamplesAreTheNamedScenesRoomAndAround) {
+  const std::string dir = std::string(IILFM_SOURCE_DIR) + "/data/scenes/";
+  expect_same_setup(read_scene_yaml(dir + "room.yaml"), named_scene("room"));
+  expect_same_setup(read_scene_yaml(dir + "around.yaml"), named_scene("around"));
+  // Around scales with the distance; room has none to scale.
+  const SceneSetup far = named_scene("around", SceneParams{{}, {}, {}, 8.0});
+  EXPECT_NEAR(far.scene.walls[0].T_world_wall.translation().x(), 8, 1e-12);
+  EXPECT_THROW(named_scene("room", SceneParams{{}, {}, {}, 3.0}), InputError);
+}
+
 // The message names the file, the entry and the problem.
 void expect_error(const std::string& text, const std::string& where, const std::string& problem) {
   try {

@@ -51,6 +51,22 @@ Mat3 facing_minus_x(double in_plane_deg = 0);
 MarkerSpec wall_marker(const std::string& family, int id, double size_m, double wall_x, double y,
                        double z, double in_plane_deg = 0);
 
+// An upright wall (width along the horizontal, height up) centred at `centre` whose front, its
+// local +z, faces the horizontal direction at `facing_azimuth_deg` (from +x towards +y).
+Wall upright_wall(const Vec3& centre, double facing_azimuth_deg, double width_m, double height_m,
+                  float reflectivity = 60);
+
+// The six faces of a box of `size` (along its local x, y, z) centred at `centre` and turned by
+// `yaw_deg` about world z: the faces across local x, then y, then z, the minus side first.
+std::vector<Wall> box_walls(const Vec3& centre, const Vec3& size, double yaw_deg,
+                            float reflectivity);
+
+// A marker printed on the front of `wall`, centred `u` along the wall's local x and `v` along
+// its local y from the wall's centre, turned `in_plane_deg` counter-clockwise as the viewer sees
+// it (marker x, y = the wall's x, y at 0 deg).
+MarkerSpec marker_on_wall(const Wall& wall, const std::string& family, int id, double size_m,
+                          double u, double v, double in_plane_deg = 0);
+
 // A big wall in the plane x = wall_x facing -x (towards a LiDAR looking along +x), standing on a
 // floor at z = floor_z that reaches 10 m back from the wall, plus the given markers.
 Scene wall_scene(const std::vector<MarkerSpec>& markers, double wall_x = 3.62, double floor_z = 0,

@@ -15,7 +15,7 @@ struct SceneParams {
   std::optional<std::string> family;    // marker family of every marker in the scene
   std::optional<int> id;                // marker id (grid: id of the top-left marker)
   std::optional<double> marker_size_m;  // edge of the outer black square
-  std::optional<double> distance_m;     // LiDAR to wall (tag-wall, grid) or to marker (ccw10m)
+  std::optional<double> distance_m;  // LiDAR to wall (tag-wall, grid, around), to marker (ccw10m)
 };
 
 struct SceneSetup {
@@ -30,6 +30,10 @@ struct SceneSetup {
 // "ccw10m": LiDARTag's ccw_10m set-up, a ULTRA Puck at the origin and a tag16h5 on a 1.22 m board
 //   (0.915 m black square) 10 m ahead, turned about 45 deg in its plane, on a wall yawed 23.4 deg
 //   and leaning back 8.9 deg.
+// "room": data/scenes/room.yaml: an 8 x 6 x 3 m room with a box, four markers (ids id..id+3, 0.3
+//   m) on the front and left walls and the box, an Avia turned towards the front-left corner.
+// "around": data/scenes/around.yaml: five 0.5 m markers on the four walls of a square room
+//   around an OS1-64; distance = LiDAR to each wall (5 m).
 // InputError naming the known scenes for anything else.
 SceneSetup named_scene(const std::string& name, const SceneParams& params = {});
 
