@@ -40,7 +40,10 @@ void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square) {
   marker.T_lidar_marker = fit.T;
   marker.marker_fit_rms = fit.rms;
   if (fit_square && source.size() == 4 && marker.corners.size() == 4) {
-    for (std::size_t k = 0; k < 4; ++k) marker.corners[k].point = fit.T * model[k];
+    for (std::size_t k = 0; k < 4; ++k) {
+      marker.lifted_points.push_back(marker.corners[k].point);
+      marker.corners[k].point = fit.T * model[k];
+    }
   }
 }
 
@@ -118,7 +121,8 @@ const FrameResult& Pipeline::process(const PointCloud& cloud) {
       for (std::size_t k = 0; k < marker.corners.size() && k < 4; ++k) {
         if (!marker.corners[k].valid()) continue;
         c.world.push_back(mapped->corners_world[k]);
-        c.lidar.push_back(marker.corners[k].point);
+        c.lidar.push_back(marker.lifted_points.empty() ? marker.corners[k].point
+                                                       : marker.lifted_points[k]);
       }
       if (!c.world.empty()) correspondences.push_back(std::move(c));
     }

@@ -40,10 +40,13 @@ struct PipelineOptions {
 
 struct MarkerResult {
   Detection detection;
-  std::vector<LiftedCorner> corners;        // one per detection keypoint, same order
+  std::vector<LiftedCorner> corners;  // one per detection keypoint, same order
+  // The corners as lifted, before the known-size square replaced them (empty when it did not):
+  // the LiDAR pose is fitted to these, so its residual still measures the detection.
+  std::vector<Vec3> lifted_points;
   std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
-  double marker_fit_rms = 0;  // residual of that fit, metres: how far from a square of that size
-  std::optional<Plane> plane;               // the fitted marker plane (plane lifting)
+  double marker_fit_rms = 0;   // residual of that fit, metres: how far from a square of that size
+  std::optional<Plane> plane;  // the fitted marker plane (plane lifting)
   bool in_map = false;
 };
 
