@@ -8,6 +8,12 @@ packages=(
   libeigen3-dev libapriltag-dev libopencv-dev libopencv-contrib-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # bag readers (ROS 1 bz2/lz4 chunks, ROS 2 sqlite3) and real bag writers for their tests
+  libbz2-dev liblz4-dev libsqlite3-dev python3-rosbag python3-sensor-msgs
+  # Python bindings and their tests
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  # HTML report tested in a real headless browser
+  chromium chromium-driver
 )
 
 missing=()
