@@ -6,5 +6,9 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${1:-$root/build}"
 shift || true
 jobs="${IILFM_JOBS:-$(nproc)}"
-cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="${IILFM_BUILD_TYPE:-Release}" "$@" >/dev/null
+launcher=()
+# ccache, when installed, lets several checkouts (worktrees, CI clones) share compiled objects.
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="${IILFM_BUILD_TYPE:-Release}" \
+  "${launcher[@]}" "$@" >/dev/null
 cmake --build "$build_dir" -j "$jobs"
