@@ -31,6 +31,8 @@ struct DetectArgs {
   std::string threshold;
   std::string lift = "plane";
   std::string collision = "mean";
+  std::string rows;
+  bool no_square_pixels = false;
   double blur = 0;
   bool gray_input = false;
   float decimate = 1;
@@ -127,6 +129,14 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
   options.preprocess.threshold = threshold;
   options.preprocess.binarize = !args.gray_input;
   options.preprocess.blur_sigma = args.blur;
+
+  if (args.rows == "uniform")
+    options.projection.rows = RowLayout::kUniform;
+  else if (args.rows == "rings")
+    options.projection.rows = RowLayout::kRings;
+  else if (!args.rows.empty())
+    throw InputError("--rows must be 'uniform' or 'rings', got '" + args.rows + "'");
+  options.preprocess.square_pixels = !args.no_square_pixels;
 
   if (args.collision == "nearest")
     options.projection.collision = CollisionPolicy::kNearest;
@@ -244,6 +254,10 @@ Runner register_detect_command(CLI::App& app) {
                   "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
   cmd->add_option("--lift", args->lift, "3-D corners: plane (marker-plane fit, default) or paper");
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
+  cmd->add_option("--rows", args->rows,
+                  "Image rows: rings (one per laser; spinning presets) or uniform (res-v apart)");
+  cmd->add_flag("--no-square-pixels", args->no_square_pixels,
+                "Give detectors the projected rows as they are (the paper's image)");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");
   cmd->add_flag("--gray", args->gray_input, "Give detectors the gray image, not the binary one");
   cmd->add_option("--decimate", args->decimate, "AprilTag quad decimation (default 1)")
