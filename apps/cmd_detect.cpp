@@ -14,6 +14,7 @@
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
+#include "iilfm/resolution.hpp"
 #include "iilfm/sensor.hpp"
 
 namespace iilfm::cli {
@@ -102,7 +103,9 @@ ArucoRefine aruco_refine(const std::string& name) {
                    "'");
 }
 
-PipelineOptions pipeline_options(const DetectArgs& args) {
+// Without a preset or both resolutions, they come from the cloud (`estimated` says so).
+PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud,
+                                 std::optional<ResolutionEstimate>& estimated) {
   PipelineOptions options;
   std::optional<double> threshold;
   if (!args.sensor.empty()) {
@@ -110,9 +113,14 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
     apply_sensor_preset(preset, options);
     threshold = preset.threshold;
   } else if (args.res_h <= 0 || args.res_v <= 0) {
-    throw InputError(
-        "give --sensor PRESET or both --res-h and --res-v (degrees); `iilfm sensors` "
-        "lists the presets");
+    try {
+      estimated = estimate_resolution(cloud);
+    } catch (const InputError& e) {
+      throw file_error(args.input, e.what());
+    }
+    options.projection.res_h_deg = estimated->res_h_deg;
+    options.projection.res_v_deg = estimated->res_v_deg;
+    options.projection.rows = estimated->rows;
   }
   if (args.res_h > 0) options.projection.res_h_deg = args.res_h;
   if (args.res_v > 0) options.projection.res_v_deg = args.res_v;
@@ -197,9 +205,6 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
 }
 
 int run_detect(const DetectArgs& args) {
-  PipelineOptions options = pipeline_options(args);
-  Pipeline pipeline(std::move(options));
-
   const auto start = std::chrono::steady_clock::now();
   io::LoadedCloud loaded = load_input(args);
   InputInfo info{
@@ -212,6 +217,17 @@ int run_detect(const DetectArgs& args) {
                                      ")");
   }
 
+  std::optional<ResolutionEstimate> estimated;
+  Pipeline pipeline(pipeline_options(args, loaded.cloud, estimated));
+  if (estimated && !args.quiet) {
+    std::cout << "resolution estimated from the cloud (" << estimated->method
+              << "): " << estimated->res_h_deg << " x " << estimated->res_v_deg << " deg";
+    if (estimated->rings > 0) std::cout << ", " << estimated->rings << " rings";
+    std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
+  }
+  info.resolution_source = estimated    ? "estimated (" + estimated->method + ")"
+                           : !args.sensor.empty() ? "preset " + args.sensor
+                                                  : "given";
   const FrameResult& result = pipeline.process(loaded.cloud);
   if (!args.json_path.empty()) {
     const std::string text = result_to_json(result, info).dump(2) + "\n";
