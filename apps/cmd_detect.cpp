@@ -209,7 +209,8 @@ int run_detect(const DetectArgs& args) {
   io::LoadedCloud loaded = load_input(args);
   InputInfo info{
       args.input, loaded.stats,
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+      ""};
   if (loaded.cloud.empty()) {
     throw file_error(args.input, "no valid points (" + std::to_string(loaded.stats.non_finite) +
                                      " non-finite, " + std::to_string(loaded.stats.zero) +
@@ -225,7 +226,7 @@ int run_detect(const DetectArgs& args) {
     if (estimated->rings > 0) std::cout << ", " << estimated->rings << " rings";
     std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
   }
-  info.resolution_source = estimated    ? "estimated (" + estimated->method + ")"
+  info.resolution_source = estimated              ? "estimated (" + estimated->method + ")"
                            : !args.sensor.empty() ? "preset " + args.sensor
                                                   : "given";
   const FrameResult& result = pipeline.process(loaded.cloud);

@@ -94,8 +94,9 @@ ResolutionEstimate estimate_resolution(const PointCloud& cloud) {
   std::vector<std::uint8_t> covered(cols * cell_rows, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (cloud.x[i] == 0 && cloud.y[i] == 0 && cloud.z[i] == 0) continue;
-    const std::size_t c = std::min(
-        cols - 1, static_cast<std::size_t>(std::max(0.0, (azimuth[i] - extent.azimuth_min) / cell)));
+    const std::size_t c =
+        std::min(cols - 1,
+                 static_cast<std::size_t>(std::max(0.0, (azimuth[i] - extent.azimuth_min) / cell)));
     const std::size_t r = std::min(
         cell_rows - 1,
         static_cast<std::size_t>(std::max(0.0, (elevation[i] - extent.elevation_min) / cell)));

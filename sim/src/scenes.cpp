@@ -33,11 +33,14 @@ Isometry3 level_lidar_at(const Vec3& position) {
 SceneSetup tag_wall(const SceneParams& p) {
   const double distance = p.distance_m.value_or(2.0);
   check_distance(distance);
-  const MarkerSpec tag = wall_marker(p.family.value_or("apriltag:tag36h11"), p.id.value_or(0),
-                                     p.marker_size_m.value_or(0.172), kPaperWallX, 0, kPaperTagZ);
+  const double size = p.marker_size_m.value_or(0.172);
+  // The paper's height, raised for large markers so the printed sheet clears the floor.
+  const double centre_z = std::max(kPaperTagZ, 0.75 * size + 0.1);
+  const MarkerSpec tag = wall_marker(p.family.value_or("apriltag:tag36h11"), p.id.value_or(0), size,
+                                     kPaperWallX, 0, centre_z);
   SceneSetup setup;
   setup.scene = wall_scene({tag}, kPaperWallX);
-  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, kPaperTagZ));
+  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, centre_z));
   setup.sensor = "mid40";
   return setup;
 }

@@ -105,8 +105,8 @@ TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
   const std::string pcd = (d / "auto.pcd").string(), map = (d / "auto.yaml").string(),
                     json = (d / "auto.json").string();
   ASSERT_EQ(run("sim --scene ccw10m --sensor ultrapuck --out " + pcd + " --map " + map).status, 0);
-  const CommandRun r = run("detect " + pcd + " --marker apriltag:tag16h5 --map " + map +
-                           " --json " + json);
+  const CommandRun r =
+      run("detect " + pcd + " --marker apriltag:tag16h5 --map " + map + " --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("resolution estimated from the cloud (ring field)"), std::string::npos)
       << r.out;
@@ -160,8 +160,9 @@ TEST(Cli, BadInputGivesOneLineAndExitTwo) {
   expect_input_error("detect " + good + " --sensor mid40 --marker tag36h11", "apriltag:tag36h11");
   expect_input_error("detect " + good + " --sensor nosuch", "unknown sensor preset 'nosuch'");
   const fs::path tiny = d / "tiny.pcd";
-  std::ofstream(tiny) << "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
-                         "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 0 0 5\n1 1 0 5\n";
+  std::ofstream(tiny)
+      << "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+         "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 0 0 5\n1 1 0 5\n";
   expect_input_error("detect " + tiny.string(), tiny.string() + ": too few points");
   expect_input_error("detect " + good + " --sensor mid40 --threshold abc", "--threshold");
   expect_input_error("detect " + good + " --sensor mid40 --lift magic", "--lift");

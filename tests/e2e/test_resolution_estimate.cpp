@@ -20,8 +20,8 @@ sim::SimResult scan_room(const sim::SensorModel& sensor, int frames) {
 }
 
 double mean_ring_spacing_deg(const sim::SensorModel& sensor) {
-  const auto [lo, hi] = std::minmax_element(sensor.ring_elevations_deg.begin(),
-                                            sensor.ring_elevations_deg.end());
+  const auto [lo, hi] =
+      std::minmax_element(sensor.ring_elevations_deg.begin(), sensor.ring_elevations_deg.end());
   return (*hi - *lo) / static_cast<double>(sensor.ring_elevations_deg.size() - 1);
 }
 
