@@ -7,7 +7,11 @@
 namespace iilfm {
 
 bool needs_square_pixels(const ImageGeometry& g) {
-  return g.height > 1 && (g.ring_rows() || g.res_v > kSquarePixelRatio * g.res_h);
+  if (g.height <= 1) return false;
+  double coarsest = g.res_v;
+  for (std::size_t r = 1; r < g.row_elevation.size(); ++r)
+    coarsest = std::max(coarsest, g.row_elevation[r - 1] - g.row_elevation[r]);
+  return coarsest > kSquarePixelRatio * g.res_h;
 }
 
 ImageGeometry square_pixel_geometry(const ImageGeometry& g) {

@@ -10,8 +10,8 @@
 
 namespace iilfm {
 
-// Rows are resampled when they are more than this many times coarser than the columns, or follow
-// non-uniform rings.
+// Rows are resampled when they (or the gaps between some rings) are more than this many times
+// coarser than the columns.
 inline constexpr double kSquarePixelRatio = 1.5;
 
 // True when `g` should be resampled for the detector.
