@@ -210,9 +210,10 @@ Runner register_sim_command(CLI::App& app) {
       ->capture_default_str();
   a.min_range_opt = sub->add_option("--min-range", a.min_range,
                                     "Minimum range in metres (default: the sensor's)");
-  a.family_opt = sub->add_option("--family", a.family,
-                                 "Marker family, e.g. apriltag:tag36h11 or aruco:DICT_4X4_50 (default: "
-                                 "the scene's)");
+  a.family_opt =
+      sub->add_option("--family", a.family,
+                      "Marker family, e.g. apriltag:tag36h11 or aruco:DICT_4X4_50 (default: "
+                      "the scene's)");
   a.id_opt = sub->add_option("--id", a.id, "Marker id (grid: id of the top-left marker)");
   a.size_opt = sub->add_option("--marker-size", a.marker_size,
                                "Edge of the outer black square in metres (tag-wall: 0.172)");

@@ -38,8 +38,7 @@ MarkerTexture apriltag_texture(const std::string& name, int id) {
 // drawMarker at one pixel per cell: the data bits inside a one-cell black border; a one-cell white
 // margin around it stands for the paper the marker is printed on.
 MarkerTexture aruco_texture(const ArucoDictionaryEntry& entry, const std::string& family, int id) {
-  const cv::Ptr<cv::aruco::Dictionary> dictionary =
-      cv::aruco::getPredefinedDictionary(entry.id);
+  const cv::Ptr<cv::aruco::Dictionary> dictionary = cv::aruco::getPredefinedDictionary(entry.id);
   if (id < 0 || id >= dictionary->bytesList.rows) {
     throw InputError("marker id " + std::to_string(id) + " is outside " + family + " (0.." +
                      std::to_string(dictionary->bytesList.rows - 1) + ")");

@@ -82,13 +82,14 @@ SceneSetup grid(const SceneParams& p) {
   return setup;
 }
 
-// The paper's Fig. 1(a) and 8(a): the 35-tag grid and, on the same wall, a grid of four 16 cm 4x4 ArUco
-// markers (the paper names neither the dictionary nor the layout: DICT_4X4_50 ids 0..3, two by
-// two on the tags' sheet pitch, to the viewer's right of the tags, level with the grid's middle,
+// The paper's Fig. 1(a) and 8(a): the 35-tag grid and, on the same wall, a grid of four 16 cm 4x4
+// ArUco markers (the paper names neither the dictionary nor the layout: DICT_4X4_50 ids 0..3, two
+// by two on the tags' sheet pitch, to the viewer's right of the tags, level with the grid's middle,
 // with a quarter pitch more gap). The LiDAR faces the middle of the whole arrangement.
 SceneSetup paper_grid(const SceneParams& p) {
   if (p.family || p.id || p.marker_size_m) {
-    throw InputError("scene 'paper-grid' prints the paper's markers; family, id and size are fixed");
+    throw InputError(
+        "scene 'paper-grid' prints the paper's markers; family, id and size are fixed");
   }
   const double distance = p.distance_m.value_or(4.0);  // both grids inside the Mid-40 cone
   check_distance(distance);

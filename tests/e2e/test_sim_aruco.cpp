@@ -35,9 +35,10 @@ eval::CaseSpec noise_free_tag_wall(const std::string& family, int id, double siz
 }
 
 void print_score(const char* what, const eval::CaseScore& s) {
-  std::printf("[ measured ] %s: found %d/%d, corner mean %.2f mm, max %.2f mm, LiDAR %.2f mm %.3f deg\n",
-              what, s.detected, s.visible, s.corner_error_mean * 1000, s.corner_error_max * 1000,
-              s.position_error * 1000, s.rotation_error_deg);
+  std::printf(
+      "[ measured ] %s: found %d/%d, corner mean %.2f mm, max %.2f mm, LiDAR %.2f mm %.3f deg\n",
+      what, s.detected, s.visible, s.corner_error_mean * 1000, s.corner_error_max * 1000,
+      s.position_error * 1000, s.rotation_error_deg);
 }
 
 // The paper's 16 cm 4x4 marker, 2 m ahead, 40 Mid-40 frames without noise.
@@ -124,8 +125,8 @@ TEST(SimAruco, CliDetectsThePaperGridWithTwoMarkerFamilies) {
   fs::create_directories(d);
   const std::string pcd = (d / "grid.pcd").string(), map = (d / "grid.yaml").string(),
                     truth = (d / "truth.json").string(), json = (d / "out.json").string();
-  ASSERT_EQ(run_cli("sim --scene paper-grid --seed 7 --out " + pcd + " --map " + map +
-                    " --truth " + truth),
+  ASSERT_EQ(run_cli("sim --scene paper-grid --seed 7 --out " + pcd + " --map " + map + " --truth " +
+                    truth),
             0);
   ASSERT_EQ(run_cli("detect " + pcd + " --sensor mid40 --marker apriltag:tag36h11 --marker " +
                     "aruco:DICT_4X4_50 --map " + map + " --json " + json),

@@ -12,8 +12,8 @@
 namespace iilfm::eval {
 
 struct SuiteSetup {
-  std::string group;  // the table it belongs to, e.g. "Table 1: Mid-40, ..."
-  std::string name;   // e.g. "Mid-40, 2 m, 40 frames"
+  std::string group;      // the table it belongs to, e.g. "Table 1: Mid-40, ..."
+  std::string name;       // e.g. "Mid-40, 2 m, 40 frames"
   std::string published;  // what the paper published for this group, printed under its table
   CaseSpec spec;
 };
