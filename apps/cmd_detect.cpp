@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "detect_sequence.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/pipeline.hpp"
@@ -43,6 +44,7 @@ struct DetectArgs {
   int aruco_window_max = ArucoOptions{}.window_max;
   int aruco_window_step = ArucoOptions{}.window_step;
   std::string json_path, image_path;
+  std::string topic, jsonl_path, tum_path;  // sequences (detect_sequence.cpp)
   bool quiet = false;
 };
 
@@ -187,6 +189,13 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
 }
 
 int run_detect(const DetectArgs& args) {
+  const SequenceArgs sequence{args.input,      args.topic,    args.frames,
+                              args.jsonl_path, args.tum_path, args.quiet};
+  if (is_sequence_run(sequence)) {
+    if (!args.json_path.empty() || !args.image_path.empty())
+      throw InputError("--json and --image take one cloud; a sequence writes --jsonl and --tum");
+    return run_detect_sequence(sequence, pipeline_options(args));
+  }
   PipelineOptions options = pipeline_options(args);
   Pipeline pipeline(std::move(options));
 
@@ -229,7 +238,9 @@ Runner register_detect_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("detect",
                                      "Detect markers in a point cloud and estimate the "
                                      "LiDAR pose");
-  cmd->add_option("input", args->input, "Cloud file (.pcd, .bin) or folder of them")->required();
+  cmd->add_option("input", args->input,
+                  "Cloud file (.pcd, .bin, .ply, .txt), folder of them, or bag (.bag, ROS 2 "
+                  "folder, .db3)")->required();
   cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
   cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");
   cmd->add_option("--res-v", args->res_v, "Vertical angular resolution, degrees");
@@ -238,7 +249,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--map", args->map_path, "Marker map YAML: enables the LiDAR pose");
   cmd->add_option("--marker-size", args->marker_size,
                   "Edge of the black square (m) of markers not in the map: enables T_lidar_marker");
-  cmd->add_option("--frames", args->frames, "Integrate the first N cloud files of a folder")
+  cmd->add_option("--frames", args->frames,
+                  "Integrate N frames: a folder alone gives one result for its first N files; "
+                  "sequences slide an N-frame window")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--threshold", args->threshold,
                   "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
@@ -266,7 +279,10 @@ Runner register_detect_command(CLI::App& app) {
       ->check(CLI::Range(1, 255));
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
+  cmd->add_option("--topic", args->topic, "Bag topic with the point clouds (bag input)");
+  cmd->add_option("--jsonl", args->jsonl_path, "Sequence: one JSON result per frame (JSON Lines)");
+  cmd->add_option("--tum", args->tum_path, "Sequence: LiDAR trajectory in TUM format");
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success (and no progress bar)");
   return [args] { return run_detect(*args); };
 }
 
