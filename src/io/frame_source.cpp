@@ -108,7 +108,8 @@ std::unique_ptr<FrameSource> open_frame_source(const std::string& input,
   if (!topic.empty()) return std::make_unique<BagFrames>(input, topic);
   if (is_bag_path(input)) {
     std::string topics;
-    for (const BagTopic& t : open_bag(input)->topics())
+    const std::unique_ptr<BagReader> bag = open_bag(input);
+    for (const BagTopic& t : bag->topics())
       if (is_cloud_message_type(t.type)) topics += (topics.empty() ? "" : ", ") + t.name;
     throw file_error(input, "a bag needs --topic (point cloud topics: " +
                                 (topics.empty() ? std::string("none") : topics) + ")");

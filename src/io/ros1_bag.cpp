@@ -167,6 +167,8 @@ class Ros1Bag final : public BagReader {
     std::set<std::uint32_t> ids;
     for (const auto& [id, c] : connections_)
       if (c.topic == topic) ids.insert(id);
+    if (ids.empty() && !damage_.empty())
+      throw file_error(path_, damage_ + "; no " + topic + " message before it");
     if (ids.empty()) throw file_error(path_, missing_topic_problem(topic, topics_));
     selected_.clear();
     for (const Entry& e : entries_)
