@@ -331,7 +331,7 @@ def read_pcd(path):
         datatype = {('F', 4): F32, ('F', 8): F64, ('U', 1): U8, ('U', 2): U16}[(kind, size)]
         layout.append((name, at, datatype))
         at += size
-    n = int(header['POINTS'])
+    n = int(header['POINTS'][0])
     return layout, at, raw[offset:offset + n * at], n
 
 
