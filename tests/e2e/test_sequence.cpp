@@ -286,3 +286,45 @@ TEST(Sequence, SlidingWindowOfTwentyMid40Frames) {
 }
 
 }  // namespace
+
+namespace {
+
+// A folder: alone with --frames N it still integrates the first N files into one result (the
+// single-cloud behaviour scripts rely on); with --jsonl every file is a frame.
+TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
+  const fs::path d = temp_dir() / "folder";
+  fs::create_directories(d);
+  const fs::path map_file = temp_dir() / "folder_map.yaml";
+  for (int k = 0; k < 3; ++k) {
+    const std::string pcd = (d / ("scan_" + std::to_string(k) + ".pcd")).string();
+    ASSERT_EQ(run_cli("sim --sensor vlp16 --seed " + std::to_string(k + 1) + " --out " + pcd +
+                      " --map " + map_file.string())
+                  .status,
+              0);
+  }
+  const fs::path one = temp_dir() / "folder.json";
+  const CommandRun single =
+      run_cli("detect " + d.string() + " --frames 2 --sensor vlp16 --json " + one.string());
+  ASSERT_EQ(single.status, 0) << single.err;
+  const json integrated = json::parse(slurp(one));
+  const fs::path jsonl = temp_dir() / "folder.jsonl";
+  const CommandRun frames = run_cli("detect " + d.string() + " --sensor vlp16 --map " +
+                                    map_file.string() + " --jsonl " + jsonl.string());
+  ASSERT_EQ(frames.status, 0) << frames.err;
+  const std::vector<json> lines = read_jsonl(jsonl);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(integrated["input"]["points"].get<int>(),
+            lines[0]["input"]["points"].get<int>() + lines[1]["input"]["points"].get<int>());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(lines[k]["frame"], k);
+    EXPECT_EQ(lines[k]["timestamp"], k);  // names are not times: the frame index
+    EXPECT_NE(lines[k]["input"]["path"].get<std::string>().find("scan_" + std::to_string(k)),
+              std::string::npos);
+  }
+  const CommandRun both = run_cli("detect " + d.string() + " --sensor vlp16 --jsonl " +
+                                  jsonl.string() + " --json " + one.string());
+  EXPECT_EQ(both.status, 2);
+  EXPECT_NE(both.err.find("--json and --image take one cloud"), std::string::npos) << both.err;
+}
+
+}  // namespace
