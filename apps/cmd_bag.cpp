@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "commands.hpp"
 #include "iilfm/error.hpp"
@@ -12,6 +13,14 @@ namespace {
 
 double seconds(std::int64_t ns) {
   return static_cast<double>(ns / 1'000'000'000) + static_cast<double>(ns % 1'000'000'000) * 1e-9;
+}
+
+// Exact "sec.nanosec": a double would print 59.900000095 for 59.9 s after 1.6e9 s.
+std::string stamp_text(std::int64_t ns) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%lld.%09lld", static_cast<long long>(ns / 1'000'000'000),
+                static_cast<long long>(ns % 1'000'000'000));
+  return text;
 }
 
 int run_bag_info(const std::string& path) {
@@ -31,8 +40,8 @@ int run_bag_info(const std::string& path) {
   }
   std::printf("path:     %s\nformat:   %s\n", path.c_str(), bag->format().c_str());
   if (any)
-    std::printf("duration: %.3f s (%.9f to %.9f)\n", seconds(last - first), seconds(first),
-                seconds(last));
+    std::printf("duration: %.3f s (%s to %s)\n", seconds(last - first), stamp_text(first).c_str(),
+                stamp_text(last).c_str());
   std::printf("messages: %zu\ntopics:   %zu\n", total, topics.size());
   for (const io::BagTopic& t : topics) {
     const double span = seconds(t.last_ns - t.first_ns);
