@@ -240,7 +240,8 @@ Runner register_detect_command(CLI::App& app) {
                                      "LiDAR pose");
   cmd->add_option("input", args->input,
                   "Cloud file (.pcd, .bin, .ply, .txt), folder of them, or bag (.bag, ROS 2 "
-                  "folder, .db3)")->required();
+                  "folder, .db3)")
+      ->required();
   cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
   cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");
   cmd->add_option("--res-v", args->res_v, "Vertical angular resolution, degrees");

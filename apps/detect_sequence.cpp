@@ -138,9 +138,10 @@ int run_detect_sequence(const SequenceArgs& args, PipelineOptions options) {
                                          " but the recording holds " +
                                          std::to_string(counts.frames) + " frames");
   if (!args.quiet) {
-    std::printf("%zu frames from %s: %zu result(s), markers in %zu, LiDAR pose in %zu; %.1f frames/s\n",
-                counts.frames, source->name().c_str(), counts.results, counts.with_markers,
-                counts.with_pose, progress.rate(counts.frames));
+    std::printf(
+        "%zu frames from %s: %zu result(s), markers in %zu, LiDAR pose in %zu; %.1f frames/s\n",
+        counts.frames, source->name().c_str(), counts.results, counts.with_markers,
+        counts.with_pose, progress.rate(counts.frames));
   }
   return 0;
 }

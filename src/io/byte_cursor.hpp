@@ -54,9 +54,7 @@ class ByteCursor {
     offset_ += n;
     return at;
   }
-  std::string_view take_text(std::size_t n) {
-    return {reinterpret_cast<const char*>(take(n)), n};
-  }
+  std::string_view take_text(std::size_t n) { return {reinterpret_cast<const char*>(take(n)), n}; }
   void skip(std::size_t n) { take(n); }
   // CDR: moves to the next multiple of n counted from `origin` (the byte after the encapsulation
   // header).

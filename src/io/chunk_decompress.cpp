@@ -13,10 +13,10 @@ std::string decompress_bz2(const std::uint8_t* data, std::size_t size, std::size
   if (size > UINT_MAX || expected >= UINT_MAX) return "bz2 chunk too large";
   out.resize(expected + 1);  // one spare byte tells "exactly expected" from "more than expected"
   unsigned int produced = static_cast<unsigned int>(out.size());
-  const int status = BZ2_bzBuffToBuffDecompress(
-      reinterpret_cast<char*>(out.data()), &produced,
-      const_cast<char*>(reinterpret_cast<const char*>(data)), static_cast<unsigned int>(size),
-      0, 0);
+  const int status =
+      BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &produced,
+                                 const_cast<char*>(reinterpret_cast<const char*>(data)),
+                                 static_cast<unsigned int>(size), 0, 0);
   if (status == BZ_OUTBUFF_FULL)
     return "bz2 data decompresses to more than the " + std::to_string(expected) + " bytes declared";
   if (status == BZ_DATA_ERROR || status == BZ_DATA_ERROR_MAGIC) return "bz2 data corrupt";
@@ -43,7 +43,8 @@ std::string decompress_lz4_frame(const std::uint8_t* data, std::size_t size, std
     std::size_t in_size = size - consumed, out_size = out.size() - produced;
     hint = LZ4F_decompress(context.get(), out.data() + produced, &out_size, data + consumed,
                            &in_size, nullptr);
-    if (LZ4F_isError(hint)) return std::string("lz4 data corrupt (") + LZ4F_getErrorName(hint) + ")";
+    if (LZ4F_isError(hint))
+      return std::string("lz4 data corrupt (") + LZ4F_getErrorName(hint) + ")";
     consumed += in_size;
     produced += out_size;
     if (in_size == 0 && out_size == 0) break;  // no progress: the output is full

@@ -137,8 +137,8 @@ CloudMessage decode_pointcloud2(MessageCursor& in, const std::string& context) {
 
   const PackedRoles roles = find_packed_roles(fields);
   if (!roles.has_xyz())
-    throw InputError(context + ": PointCloud2 has no x, y, z fields (fields: " +
-                     field_list(fields) + ")");
+    throw InputError(context +
+                     ": PointCloud2 has no x, y, z fields (fields: " + field_list(fields) + ")");
   for (const PackedField& f : fields) {
     if (f.offset + scalar_size(f.type) > point_step)
       throw InputError(context + ": PointCloud2 field '" + f.name + "' at offset " +
@@ -171,7 +171,7 @@ CloudMessage decode_livox(MessageCursor& in) {
   CloudMessage out;
   out.header_stamp_ns = in.header_stamp_ns();
   const std::uint64_t timebase = in.u64();
-  in.u32();  // point_num: the array length below is what counts
+  in.u32();    // point_num: the array length below is what counts
   in.take(4);  // lidar_id, rsvd[3]
   const std::size_t n = in.u32();
   if (in.big_endian()) throw MessageCursor::BadMessage{"big-endian CDR is not supported"};
@@ -214,8 +214,8 @@ std::string cloud_message_types() {
 
 CloudMessage decode_cloud_message(const BagMessage& message, const std::string& context) {
   if (!is_cloud_message_type(message.type))
-    throw InputError(context + ": type " + message.type + " is not a point cloud (supported: " +
-                     cloud_message_types() + ")");
+    throw InputError(context + ": type " + message.type +
+                     " is not a point cloud (supported: " + cloud_message_types() + ")");
   const char* what = one_of(message.type, kPointCloud2) ? "PointCloud2" : "CustomMsg";
   try {
     MessageCursor in(message);
@@ -223,8 +223,8 @@ CloudMessage decode_cloud_message(const BagMessage& message, const std::string& 
     return decode_livox(in);
   } catch (const ShortData& e) {
     throw InputError(context + ": " + what + " message of " + std::to_string(message.size) +
-                     " bytes is truncated (needs " + std::to_string(e.wanted) + " bytes at offset " +
-                     std::to_string(e.offset) + ")");
+                     " bytes is truncated (needs " + std::to_string(e.wanted) +
+                     " bytes at offset " + std::to_string(e.offset) + ")");
   } catch (const MessageCursor::BadMessage& e) {
     throw InputError(context + ": " + what + ": " + e.problem);
   }

@@ -21,7 +21,8 @@ bool stamp_from_name(const std::string& path, double& stamp_s) {
     std::uint64_t ns = 0;
     const auto [end, ec] = std::from_chars(stem.data(), stem.data() + stem.size(), ns);
     if (ec != std::errc() || end != stem.data() + stem.size()) return false;
-    stamp_s = static_cast<double>(ns / 1'000'000'000) + static_cast<double>(ns % 1'000'000'000) * 1e-9;
+    stamp_s =
+        static_cast<double>(ns / 1'000'000'000) + static_cast<double>(ns % 1'000'000'000) * 1e-9;
     return true;
   }
   const auto [end, ec] = std::from_chars(stem.data(), stem.data() + stem.size(), stamp_s);
@@ -102,8 +103,7 @@ std::vector<std::string> cloud_files_in(const std::string& folder) {
   return files;
 }
 
-std::unique_ptr<FrameSource> open_frame_source(const std::string& input,
-                                               const std::string& topic) {
+std::unique_ptr<FrameSource> open_frame_source(const std::string& input, const std::string& topic) {
   if (!fs::exists(input)) throw file_error(input, "no such file or folder");
   if (!topic.empty()) return std::make_unique<BagFrames>(input, topic);
   if (is_bag_path(input)) {

@@ -31,8 +31,7 @@ int find_field(const std::vector<std::string>& normalised,
 }
 
 template <typename Src, typename Dst>
-void decode_swapped_column(const std::uint8_t* first, std::size_t stride, std::size_t n,
-                           Dst* out) {
+void decode_swapped_column(const std::uint8_t* first, std::size_t stride, std::size_t n, Dst* out) {
   for (std::size_t i = 0; i < n; ++i) {
     Src v;
     std::memcpy(&v, first + i * stride, sizeof v);
@@ -41,8 +40,8 @@ void decode_swapped_column(const std::uint8_t* first, std::size_t stride, std::s
 }
 
 template <typename Dst>
-void decode_any_order(ScalarType type, const std::uint8_t* first, std::size_t stride,
-                      std::size_t n, bool big_endian, Dst* out) {
+void decode_any_order(ScalarType type, const std::uint8_t* first, std::size_t stride, std::size_t n,
+                      bool big_endian, Dst* out) {
   if (!big_endian) return decode_column(type, first, stride, n, out);
   switch (type) {
     case ScalarType::kI8:

@@ -39,11 +39,11 @@ struct PlyHeader {
 
 bool ply_type(std::string_view name, ScalarType& type) {
   static const std::pair<std::string_view, ScalarType> kTypes[] = {
-      {"char", ScalarType::kI8},    {"int8", ScalarType::kI8},      {"uchar", ScalarType::kU8},
-      {"uint8", ScalarType::kU8},   {"short", ScalarType::kI16},    {"int16", ScalarType::kI16},
-      {"ushort", ScalarType::kU16}, {"uint16", ScalarType::kU16},   {"int", ScalarType::kI32},
-      {"int32", ScalarType::kI32},  {"uint", ScalarType::kU32},     {"uint32", ScalarType::kU32},
-      {"float", ScalarType::kF32},  {"float32", ScalarType::kF32},  {"double", ScalarType::kF64},
+      {"char", ScalarType::kI8},    {"int8", ScalarType::kI8},     {"uchar", ScalarType::kU8},
+      {"uint8", ScalarType::kU8},   {"short", ScalarType::kI16},   {"int16", ScalarType::kI16},
+      {"ushort", ScalarType::kU16}, {"uint16", ScalarType::kU16},  {"int", ScalarType::kI32},
+      {"int32", ScalarType::kI32},  {"uint", ScalarType::kU32},    {"uint32", ScalarType::kU32},
+      {"float", ScalarType::kF32},  {"float32", ScalarType::kF32}, {"double", ScalarType::kF64},
       {"float64", ScalarType::kF64}};
   for (const auto& [n, t] : kTypes) {
     if (n == name) {
@@ -94,8 +94,8 @@ PlyHeader parse_header(const FileBytes& file, const std::string& path) {
       header.elements.push_back({std::string(words[1]), static_cast<std::uint64_t>(count), {}});
     } else if (keyword == "property") {
       if (header.elements.empty())
-        throw file_error(path, "PLY property before any element (line " +
-                                   std::to_string(line_number) + ")");
+        throw file_error(
+            path, "PLY property before any element (line " + std::to_string(line_number) + ")");
       PlyProperty p;
       bool ok;
       if (n == 5 && words[1] == "list") {
@@ -135,7 +135,9 @@ std::uint64_t read_count(const std::uint8_t* at, ScalarType type, bool big_endia
 std::size_t skip_binary_element(const PlyElement& e, const std::uint8_t* data, std::size_t size,
                                 bool big_endian, const std::string& path) {
   if (e.properties.empty()) return 0;
-  const auto fail = [&] { return file_error(path, "PLY data ends inside element '" + e.name + "'"); };
+  const auto fail = [&] {
+    return file_error(path, "PLY data ends inside element '" + e.name + "'");
+  };
   std::size_t at = 0;
   for (std::uint64_t r = 0; r < e.count; ++r) {
     for (const PlyProperty& p : e.properties) {
@@ -237,8 +239,8 @@ void read_ascii(const FileBytes& file, const PlyHeader& header, const std::strin
     return v;
   };
   for (std::uint64_t done = 0; done < vertices.count; done += kDecodeBlockPoints) {
-    const std::size_t count =
-        static_cast<std::size_t>(std::min<std::uint64_t>(kDecodeBlockPoints, vertices.count - done));
+    const std::size_t count = static_cast<std::size_t>(
+        std::min<std::uint64_t>(kDecodeBlockPoints, vertices.count - done));
     const std::size_t slot = grow_columns(out.cloud, count, with_ring, with_time);
     PointCloud& c = out.cloud;
     for (std::size_t i = slot; i < slot + count; ++i) {

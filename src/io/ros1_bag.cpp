@@ -24,8 +24,8 @@ namespace iilfm::io {
 namespace {
 
 constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
-constexpr std::uint8_t kOpMessage = 0x02, kOpBagHeader = 0x03, kOpIndexData = 0x04,
-                       kOpChunk = 0x05, kOpChunkInfo = 0x06, kOpConnection = 0x07;
+constexpr std::uint8_t kOpMessage = 0x02, kOpBagHeader = 0x03, kOpIndexData = 0x04, kOpChunk = 0x05,
+                       kOpChunkInfo = 0x06, kOpConnection = 0x07;
 
 // A problem with the bag's bytes; the message is completed with the file name by the caller.
 struct Damage {
@@ -102,7 +102,7 @@ Record read_record(const std::uint8_t* base, std::size_t size, std::size_t offse
   } catch (const ShortData& e) {
     throw Damage{"record " + at_byte(offset) + where + " is cut off (needs " +
                  std::to_string(e.wanted) + " bytes " + at_byte(e.offset) + ", " +
-                 std::to_string(size) + " available)"};
+                 std::to_string(size - e.offset) + " left)"};
   } catch (const Damage& e) {
     throw Damage{"record " + at_byte(offset) + where + ": " + e.problem};
   }
@@ -234,8 +234,8 @@ class Ros1Bag final : public BagReader {
       entries_.clear();
       scan();
       if (damage_.empty() && index_pos > file_.size())
-        damage_ = "file ends " + at_byte(file_.size()) + " before its index " +
-                  at_byte(index_pos) + " (truncated)";
+        damage_ = "file ends " + at_byte(file_.size()) + " before its index " + at_byte(index_pos) +
+                  " (truncated)";
     }
     build_topics();
   }
@@ -248,8 +248,8 @@ class Ros1Bag final : public BagReader {
     chunk.data = record.data;
     chunk.data_size = record.data_size;
     if (chunk.compression != "none" && chunk.compression != "bz2" && chunk.compression != "lz4")
-      throw Damage{"chunk " + at_byte(position) + " has unknown compression '" +
-                   chunk.compression + "'"};
+      throw Damage{"chunk " + at_byte(position) + " has unknown compression '" + chunk.compression +
+                   "'"};
     if (chunk.compression == "none" && chunk.size != chunk.data_size)
       throw Damage{"uncompressed chunk " + at_byte(position) + " declares " +
                    std::to_string(chunk.size) + " bytes but holds " +

@@ -102,8 +102,9 @@ class Ros2Bag final : public BagReader {
         if (row->second.serialization != "cdr")
           throw file_error(file.path, "topic " + topic_ + " uses serialization '" +
                                           row->second.serialization + "', not cdr");
-        statement_ = prepare(file, "SELECT timestamp, data FROM messages WHERE topic_id = ? "
-                                   "ORDER BY timestamp, id");
+        statement_ = prepare(file,
+                             "SELECT timestamp, data FROM messages WHERE topic_id = ? "
+                             "ORDER BY timestamp, id");
         sqlite3_bind_int64(statement_.get(), 1, row->second.id);
       }
       const int status = sqlite3_step(statement_.get());

@@ -48,8 +48,8 @@ LoadedCloud read_xyz_text(const std::string& path) {
         header_allowed = false;
         continue;
       }
-      throw file_error(path, "line " + std::to_string(line_number) +
-                                 ": not a number in '" + quote_for_message(line) + "'");
+      throw file_error(path, "line " + std::to_string(line_number) + ": not a number in '" +
+                                 quote_for_message(line) + "'");
     }
     header_allowed = false;
     if (found < 3)

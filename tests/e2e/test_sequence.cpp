@@ -131,9 +131,9 @@ const MovingRecording& moving_recording() {
       std::snprintf(pose, sizeof pose, "--lidar-xyz %.3f %.3f %.3f --lidar-rpy %.2f %.2f %.2f",
                     1.6 + 0.06 * k, 0.15 - 0.04 * k, 0.47 + 0.01 * k, 0.2 * k, -1.0 + 0.3 * k,
                     k == kAway ? 180.0 : -4.0 + 1.5 * k);
-      const CommandRun sim = run_cli("sim --sensor ultrapuck --seed " + std::to_string(k + 1) +
-                                     " " + pose + " --out " + pcd + " --truth " + truth +
-                                     " --map " + r.map);
+      const CommandRun sim =
+          run_cli("sim --sensor ultrapuck --seed " + std::to_string(k + 1) + " " + pose +
+                  " --out " + pcd + " --truth " + truth + " --map " + r.map);
       if (sim.status != 0) throw std::runtime_error("sim failed: " + sim.err);
       pcds.push_back(pcd);
       r.truth.push_back(truth_pose(truth));
@@ -149,9 +149,9 @@ TEST(Sequence, BagTrajectoryMatchesTheSimulatedPoses) {
   if (const std::string missing = ros_python_missing(); !missing.empty()) GTEST_SKIP() << missing;
   const MovingRecording& rec = moving_recording();
   const fs::path jsonl = temp_dir() / "walk.jsonl", tum = temp_dir() / "walk.txt";
-  const CommandRun r = run_cli("detect " + rec.bag + " --topic /velodyne_points --sensor ultrapuck" +
-                               " --map " + rec.map + " --jsonl " + jsonl.string() + " --tum " +
-                               tum.string());
+  const CommandRun r =
+      run_cli("detect " + rec.bag + " --topic /velodyne_points --sensor ultrapuck" + " --map " +
+              rec.map + " --jsonl " + jsonl.string() + " --tum " + tum.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << "stderr is not a terminal: no progress bar expected\n" << r.err;
   EXPECT_NE(r.out.find("8 frames"), std::string::npos) << r.out;
@@ -260,14 +260,16 @@ TEST(Sequence, SlidingWindowOfTwentyMid40Frames) {
   const std::string pcd = (d / "all.pcd").string(), map = (d / "map.yaml").string(),
                     truth = (d / "truth.json").string(), bag = (d / "mid40.bag").string();
   ASSERT_EQ(run_cli("sim --sensor mid40 --frames 24 --seed 3 --lidar-xyz 1.5 0.05 0.5 "
-                    "--lidar-rpy 0 2 3 --out " + pcd + " --map " + map + " --truth " + truth)
+                    "--lidar-rpy 0 2 3 --out " +
+                    pcd + " --map " + map + " --truth " + truth)
                 .status,
             0);
   pcd_to_bag(bag, "/livox/lidar", "--split 0.1", {pcd});
   const fs::path jsonl = d / "out.jsonl", tum = d / "out.txt";
-  const CommandRun r = run_cli("detect " + bag + " --topic /livox/lidar --frames 20 --sensor mid40 "
-                               "--map " + map + " --jsonl " + jsonl.string() + " --tum " +
-                               tum.string());
+  const CommandRun r = run_cli("detect " + bag +
+                               " --topic /livox/lidar --frames 20 --sensor mid40 "
+                               "--map " +
+                               map + " --jsonl " + jsonl.string() + " --tum " + tum.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const std::vector<json> lines = read_jsonl(jsonl);
   ASSERT_EQ(lines.size(), 5u);  // windows ending at frames 19..23
@@ -325,6 +327,27 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
                                   jsonl.string() + " --json " + one.string());
   EXPECT_EQ(both.status, 2);
   EXPECT_NE(both.err.find("--json and --image take one cloud"), std::string::npos) << both.err;
+}
+
+}  // namespace
+
+namespace {
+
+// The progress bar appears only on a terminal: util-linux `script` gives the program one.
+TEST(Sequence, ProgressBarOnlyOnATerminal) {
+  if (const std::string missing = ros_python_missing(); !missing.empty()) GTEST_SKIP() << missing;
+  if (shell("command -v script >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "util-linux `script` absent: cannot give the program a terminal";
+  const MovingRecording& rec = moving_recording();
+  const fs::path log = temp_dir() / "tty.log";
+  const std::string detect = std::string(IILFM_CLI_PATH) + " detect " + rec.bag +
+                             " --topic /velodyne_points --sensor ultrapuck";
+  ASSERT_EQ(shell("script -qec '" + detect + "' " + log.string() + " >/dev/null 2>&1"), 0);
+  const std::string shown = slurp(log);
+  EXPECT_NE(shown.find("] 8/8 frames, "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" frames/s"), std::string::npos) << shown;
+  ASSERT_EQ(shell("script -qec '" + detect + " --quiet' " + log.string() + " >/dev/null 2>&1"), 0);
+  EXPECT_EQ(slurp(log).find("frames/s"), std::string::npos) << slurp(log);
 }
 
 }  // namespace

@@ -23,12 +23,12 @@ inline std::string make_bags_script() {
 // Empty when Debian's ROS 1 python modules are missing (scripts/setup.sh installs them).
 inline std::string ros_python_missing() {
   static const std::string missing = []() -> std::string {
-  const std::string probe = std::string(kSystemPython) +
-                            " -c 'import rosbag, genpy, sensor_msgs.msg' >/dev/null 2>&1";
-  if (std::system(probe.c_str()) != 0)
-    return "needs /usr/bin/python3 with python3-rosbag, python3-genpy and python3-sensor-msgs "
-           "(scripts/setup.sh)";
-  return std::string();
+    const std::string probe =
+        std::string(kSystemPython) + " -c 'import rosbag, genpy, sensor_msgs.msg' >/dev/null 2>&1";
+    if (std::system(probe.c_str()) != 0)
+      return "needs /usr/bin/python3 with python3-rosbag, python3-genpy and python3-sensor-msgs "
+             "(scripts/setup.sh)";
+    return std::string();
   }();
   return missing;
 }
@@ -41,8 +41,8 @@ inline const std::string& test_bags_dir() {
   if (!made) {
     const std::string folder = dir.file(".");
     for (const char* what : {"ros1", "ros2"}) {
-      const std::string command = std::string(kSystemPython) + " " + make_bags_script() + " " +
-                                  what + " '" + folder + "'";
+      const std::string command =
+          std::string(kSystemPython) + " " + make_bags_script() + " " + what + " '" + folder + "'";
       if (std::system(command.c_str()) != 0)
         throw std::runtime_error("test data script failed: " + command);
     }
@@ -65,8 +65,8 @@ inline std::string file_bytes(const std::string& path) {
 }  // namespace iilfm::io::testing
 
 // In a test body: skips with the reason when the ROS python modules are absent.
-#define SKIP_WITHOUT_ROS_PYTHON()                          \
-  do {                                                     \
+#define SKIP_WITHOUT_ROS_PYTHON()                              \
+  do {                                                         \
     const std::string missing = testing::ros_python_missing(); \
-    if (!missing.empty()) GTEST_SKIP() << missing;         \
+    if (!missing.empty()) GTEST_SKIP() << missing;             \
   } while (0)

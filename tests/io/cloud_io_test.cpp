@@ -28,8 +28,9 @@ TEST(ReadCloud, RejectsOtherExtensions) {
   const std::string las = dir.file("scan.las");
   testing::write_bytes(las, "LASF");
   EXPECT_INPUT_ERROR(read_cloud(las),
-                     las + ": unsupported cloud format '.las' (supported: .pcd, .bin, .ply, .txt, "
-                           ".xyz, .xyzi, .csv)",
+                     las +
+                         ": unsupported cloud format '.las' (supported: .pcd, .bin, .ply, .txt, "
+                         ".xyz, .xyzi, .csv)",
                      "unsupported");
   const std::string bare = dir.file("scan");
   EXPECT_INPUT_ERROR(read_cloud(bare), bare, "unsupported cloud format (no extension)");

@@ -15,9 +15,9 @@ bool have_tool(const char* name) {
   return std::system((std::string("command -v ") + name + " >/dev/null 2>&1").c_str()) == 0;
 }
 
-#define SKIP_WITHOUT_PCL_TOOLS()                                                        \
-  if (!have_tool("pcl_pcd2ply") || !have_tool("pcl_convert_pcd_ascii_binary"))         \
-  GTEST_SKIP() << "PCL command-line tools absent: install Debian's pcl-tools "          \
+#define SKIP_WITHOUT_PCL_TOOLS()                                               \
+  if (!have_tool("pcl_pcd2ply") || !have_tool("pcl_convert_pcd_ascii_binary")) \
+  GTEST_SKIP() << "PCL command-line tools absent: install Debian's pcl-tools " \
                   "(scripts/setup.sh)"
 
 void run(const std::string& command) {
@@ -82,8 +82,7 @@ TEST(PclTools, WeReadPcdWrittenByPcl) {
   for (const int mode : {0, 1, 2}) {  // PCL's ascii, binary, binary_compressed
     SCOPED_TRACE(mode);
     const std::string theirs = dir.file("pcl_" + std::to_string(mode) + ".pcd");
-    run("pcl_convert_pcd_ascii_binary " + ours + " " + theirs + " " + std::to_string(mode) +
-        " 17");
+    run("pcl_convert_pcd_ascii_binary " + ours + " " + theirs + " " + std::to_string(mode) + " 17");
     const LoadedCloud loaded = read_pcd(theirs);
     EXPECT_EQ(loaded.stats.points_in_file, cloud.size());
     expect_equal_clouds(loaded.cloud, cloud, mode == 0 ? 1e-6 : 0);

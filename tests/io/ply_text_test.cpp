@@ -91,15 +91,18 @@ TEST(Ply, ElementsBeforeTheVerticesAreSkipped) {
 TEST(Ply, Errors) {
   testing::TempDir dir;
   const std::string path = dir.file("bad.ply");
-  testing::write_bytes(path, "ply\nformat binary_little_endian 1.0\nelement vertex 1000\n"
-                             "property float x\nproperty float y\nproperty float z\nend_header\n"
-                             "abcd");
+  testing::write_bytes(path,
+                       "ply\nformat binary_little_endian 1.0\nelement vertex 1000\n"
+                       "property float x\nproperty float y\nproperty float z\nend_header\n"
+                       "abcd");
   EXPECT_INPUT_ERROR(read_cloud(path), path, "truncated PLY data");
-  testing::write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\n"
-                             "end_header\n1\n");
+  testing::write_bytes(path,
+                       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\n"
+                       "end_header\n1\n");
   EXPECT_INPUT_ERROR(read_cloud(path), path, "no x, y, z");
-  testing::write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
-                             "property float y\nproperty float z\nend_header\n1 2 3\n1 2 oops\n");
+  testing::write_bytes(path,
+                       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+                       "property float y\nproperty float z\nend_header\n1 2 3\n1 2 oops\n");
   EXPECT_INPUT_ERROR(read_cloud(path), path, "line 9: 'oops' is not a number");
   testing::write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 1\n");
   EXPECT_INPUT_ERROR(read_cloud(path), path, "no end_header");

@@ -36,7 +36,6 @@ std::vector<std::string> cloud_files_in(const std::string& folder);
 // open_bag). Stamps: a bag frame's message header stamp, or the record time when the header has
 // none; a file's name when it is a number (seconds, or nanoseconds when it is an integer of 16
 // digits or more, as ROS exporters name files), else the frame index.
-std::unique_ptr<FrameSource> open_frame_source(const std::string& input,
-                                               const std::string& topic);
+std::unique_ptr<FrameSource> open_frame_source(const std::string& input, const std::string& topic);
 
 }  // namespace iilfm::io
