@@ -65,7 +65,14 @@ nlohmann::json empty_result(const InputInfo& info) {
           {"markers", nlohmann::json::array()},
           {"pose", nullptr},
           {"pose_missing_reason", "no valid points"},
-          {"timing_ms", {{"read", info.read_ms}, {"total", info.read_ms}}}};
+          {"timing_ms",
+           {{"read", info.read_ms},
+            {"project", 0},
+            {"preprocess", 0},
+            {"detect", 0},
+            {"lift", 0},
+            {"pose", 0},
+            {"total", info.read_ms}}}};
 }
 
 struct Counts {

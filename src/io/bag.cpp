@@ -19,7 +19,7 @@ bool is_bag_path(const std::string& path) {
   namespace fs = std::filesystem;
   if (fs::is_directory(path)) return fs::exists(fs::path(path) / "metadata.yaml");
   const std::string ext = lower_extension(path);
-  return ext == ".bag" || ext == ".db3";
+  return ext == ".bag" || ext == ".db3" || ext == ".mcap";
 }
 
 std::unique_ptr<BagReader> open_bag(const std::string& path) {

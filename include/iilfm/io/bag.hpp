@@ -58,7 +58,8 @@ class BagReader {
 // A ROS 1 bag (.bag), a ROS 2 bag folder (metadata.yaml and .db3 files) or a single .db3 file.
 std::unique_ptr<BagReader> open_bag(const std::string& path);
 
-// True for paths open_bag takes: a .bag or .db3 file, or a folder with metadata.yaml.
+// True for paths open_bag takes: a .bag or .db3 file, or a folder with metadata.yaml (and .mcap,
+// which open_bag refuses with a message saying why).
 bool is_bag_path(const std::string& path);
 
 // The message types decode_cloud_message knows, ROS 1 and ROS 2 spellings.
