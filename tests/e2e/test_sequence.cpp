@@ -309,20 +309,32 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
       run_cli("detect " + d.string() + " --frames 2 --sensor vlp16 --json " + one.string());
   ASSERT_EQ(single.status, 0) << single.err;
   const json integrated = json::parse(slurp(one));
+  // A frame with no valid point between the scans: its line says so and the sequence goes on.
+  {
+    std::ofstream empty(d / "scan_1x.xyz");
+    empty << "0 0 0 5\nnan 1 2 3\n";
+  }
   const fs::path jsonl = temp_dir() / "folder.jsonl";
   const CommandRun frames = run_cli("detect " + d.string() + " --sensor vlp16 --map " +
                                     map_file.string() + " --jsonl " + jsonl.string());
   ASSERT_EQ(frames.status, 0) << frames.err;
   const std::vector<json> lines = read_jsonl(jsonl);
-  ASSERT_EQ(lines.size(), 3u);
+  ASSERT_EQ(lines.size(), 4u);
   EXPECT_EQ(integrated["input"]["points"].get<int>(),
             lines[0]["input"]["points"].get<int>() + lines[1]["input"]["points"].get<int>());
-  for (int k = 0; k < 3; ++k) {
+  const char* names[] = {"scan_0", "scan_1.pcd", "scan_1x", "scan_2"};
+  for (int k = 0; k < 4; ++k) {
     EXPECT_EQ(lines[k]["frame"], k);
     EXPECT_EQ(lines[k]["timestamp"], k);  // names are not times: the frame index
-    EXPECT_NE(lines[k]["input"]["path"].get<std::string>().find("scan_" + std::to_string(k)),
-              std::string::npos);
+    EXPECT_NE(lines[k]["input"]["path"].get<std::string>().find(names[k]), std::string::npos);
   }
+  EXPECT_EQ(lines[2]["input"]["points"], 2);
+  EXPECT_EQ(lines[2]["input"]["skipped_zero"], 1);
+  EXPECT_EQ(lines[2]["input"]["skipped_non_finite"], 1);
+  EXPECT_TRUE(lines[2]["pose"].is_null());
+  EXPECT_EQ(lines[2]["pose_missing_reason"], "no valid points");
+  EXPECT_EQ(lines[2]["timing_ms"].size(), lines[0]["timing_ms"].size());
+  EXPECT_GT(lines[3]["input"]["valid_points"].get<int>(), 10000);
   const CommandRun both = run_cli("detect " + d.string() + " --sensor vlp16 --jsonl " +
                                   jsonl.string() + " --json " + one.string());
   EXPECT_EQ(both.status, 2);
