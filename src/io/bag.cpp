@@ -15,6 +15,15 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
+std::string printable(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) c = '?';
+  }
+  return out;
+}
+
 bool is_bag_path(const std::string& path) {
   namespace fs = std::filesystem;
   if (fs::is_directory(path)) return fs::exists(fs::path(path) / "metadata.yaml");

@@ -7,6 +7,7 @@
 #include "iilfm/error.hpp"
 #include "iilfm/io/bag.hpp"
 #include "packed_points.hpp"
+#include "pcd_header.hpp"
 #include "point_filter.hpp"
 
 namespace iilfm::io {
@@ -105,13 +106,14 @@ ScalarType pointfield_type(std::uint8_t datatype, const std::string& field,
     case 8:
       return ScalarType::kF64;
   }
-  throw InputError(context + ": PointCloud2 field '" + field + "' has unknown datatype " +
-                   std::to_string(datatype));
+  throw InputError(context + ": PointCloud2 field '" + quote_for_message(field) +
+                   "' has unknown datatype " + std::to_string(datatype));
 }
 
 std::string field_list(const std::vector<PackedField>& fields) {
   std::string names;
-  for (const PackedField& f : fields) names += (names.empty() ? "" : ", ") + f.name;
+  for (const PackedField& f : fields)
+    names += (names.empty() ? "" : ", ") + quote_for_message(f.name);
   return names.empty() ? "none" : names;
 }
 
@@ -141,8 +143,8 @@ CloudMessage decode_pointcloud2(MessageCursor& in, const std::string& context) {
                      ": PointCloud2 has no x, y, z fields (fields: " + field_list(fields) + ")");
   for (const PackedField& f : fields) {
     if (f.offset + scalar_size(f.type) > point_step)
-      throw InputError(context + ": PointCloud2 field '" + f.name + "' at offset " +
-                       std::to_string(f.offset) + " does not fit in point_step " +
+      throw InputError(context + ": PointCloud2 field '" + quote_for_message(f.name) +
+                       "' at offset " + std::to_string(f.offset) + " does not fit in point_step " +
                        std::to_string(point_step));
   }
   const std::uint64_t points = width * height;  // both < 2^32: no overflow

@@ -74,12 +74,16 @@ std::vector<std::pair<std::string_view, std::string_view>> parse_fields(const st
                                                                         std::size_t size) {
   std::vector<std::pair<std::string_view, std::string_view>> fields;
   ByteCursor in(data, size);
-  while (in.remaining() > 0) {
-    const std::uint32_t length = in.u32();
-    const std::string_view text = in.take_text(length);
-    const std::size_t equals = text.find('=');
-    if (equals == std::string_view::npos) throw Damage{"header field without '='"};
-    fields.emplace_back(text.substr(0, equals), text.substr(equals + 1));
+  try {
+    while (in.remaining() > 0) {
+      const std::uint32_t length = in.u32();
+      const std::string_view text = in.take_text(length);
+      const std::size_t equals = text.find('=');
+      if (equals == std::string_view::npos) throw Damage{"header field without '='"};
+      fields.emplace_back(text.substr(0, equals), text.substr(equals + 1));
+    }
+  } catch (const ShortData&) {
+    throw Damage{"header field runs past its header"};
   }
   return fields;
 }
@@ -114,10 +118,10 @@ struct Connection {
 
 Connection read_connection(const Record& record) {
   Connection c;
-  c.topic = std::string(record.field("topic"));
+  c.topic = printable(record.field("topic"));
   const auto fields = parse_fields(record.data, record.data_size);
   for (const auto& [key, value] : fields) {
-    if (key == "type") c.type = std::string(value);
+    if (key == "type") c.type = printable(value);
     if (key == "message_definition") c.definition = std::string(value);
   }
   if (c.type.empty()) throw Damage{"connection for " + c.topic + " has no type"};

@@ -29,7 +29,7 @@ using Statement = std::unique_ptr<sqlite3_stmt, StatementDeleter>;
 
 std::string text_column(sqlite3_stmt* s, int column) {
   const unsigned char* text = sqlite3_column_text(s, column);
-  return text ? reinterpret_cast<const char*>(text) : "";
+  return text ? printable(reinterpret_cast<const char*>(text)) : "";
 }
 
 // The .db3 files of a bag path, in recording order.

@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "iilfm/io/bag.hpp"
@@ -11,6 +12,10 @@ namespace iilfm::io {
 
 std::unique_ptr<BagReader> open_ros1_bag(const std::string& path);
 std::unique_ptr<BagReader> open_ros2_bag(const std::string& path);
+
+// Text from a recording (topic and type names) with control bytes replaced by '?', so a damaged
+// name cannot break a one-line message or the terminal.
+std::string printable(std::string_view text);
 
 // "no topic '/x' (topics: /a [type], /b [type])"
 std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics);
