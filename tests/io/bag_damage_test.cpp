@@ -115,3 +115,31 @@ INSTANTIATE_TEST_SUITE_P(Compressions, CorruptChunkTest, ::testing::Values("bz2"
 
 }  // namespace
 }  // namespace iilfm::io
+
+namespace iilfm::io {
+namespace {
+
+// A connection header whose field length runs past the record (found by fuzzing): damage, not a
+// crash.
+TEST(BagDamage, ConnectionFieldLengthPastItsRecord) {
+  SKIP_WITHOUT_ROS_PYTHON();
+  std::string bytes = testing::file_bytes(testing::test_bags_dir() + "/clouds_none.bag");
+  std::size_t at = 0, changed = 0;
+  while ((at = bytes.find("md5sum=", at + 1)) != std::string::npos) {
+    const std::uint32_t huge = 0xfffff000u;
+    std::memcpy(&bytes[at - 4], &huge, 4);
+    ++changed;
+  }
+  ASSERT_GT(changed, 0u);
+  testing::TempDir out;
+  const std::string path = out.file("bad_connection.bag");
+  testing::write_bytes(path, bytes);
+  std::unique_ptr<BagReader> bag;
+  ASSERT_NO_THROW(bag = open_bag(path));
+  EXPECT_NE(bag->damage().find("header field runs past its header"), std::string::npos)
+      << bag->damage();
+  EXPECT_INPUT_ERROR(bag->select("/points_padded"), path, "runs past");
+}
+
+}  // namespace
+}  // namespace iilfm::io
