@@ -9,8 +9,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "detect_sequence.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/io/cloud_io.hpp"
+#include "iilfm/io/frame_source.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
@@ -46,21 +48,9 @@ struct DetectArgs {
   int aruco_window_max = ArucoOptions{}.window_max;
   int aruco_window_step = ArucoOptions{}.window_step;
   std::string json_path, image_path;
+  std::string topic, jsonl_path, tum_path;  // sequences (detect_sequence.cpp)
   bool quiet = false;
 };
-
-// The cloud files of a folder, sorted by name.
-std::vector<std::string> cloud_files(const std::string& folder) {
-  std::vector<std::string> files;
-  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (entry.is_regular_file() && (ext == ".pcd" || ext == ".bin"))
-      files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
 
 void append(PointCloud& into, const PointCloud& from) {
   into.x.insert(into.x.end(), from.x.begin(), from.x.end());
@@ -76,8 +66,8 @@ io::LoadedCloud load_input(const DetectArgs& args) {
       throw file_error(args.input, "--frames needs a folder of cloud files to integrate");
     return io::read_cloud(args.input);
   }
-  const std::vector<std::string> files = cloud_files(args.input);
-  if (files.empty()) throw file_error(args.input, "folder holds no .pcd or .bin files");
+  const std::vector<std::string> files = io::cloud_files_in(args.input);
+  if (files.empty()) throw file_error(args.input, "folder holds no cloud files (.pcd, .bin, .ply, .txt, .xyz, .xyzi)");
   if (static_cast<std::size_t>(args.frames) > files.size())
     throw file_error(args.input, "--frames " + std::to_string(args.frames) +
                                      " but the folder holds " + std::to_string(files.size()) +
@@ -204,7 +194,27 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
   out.unsetf(std::ios::fixed);
 }
 
+void report_estimate(const ResolutionEstimate& estimated) {
+  std::cout << "resolution estimated from the cloud (" << estimated.method
+            << "): " << estimated.res_h_deg << " x " << estimated.res_v_deg << " deg";
+  if (estimated.rings > 0) std::cout << ", " << estimated.rings << " rings";
+  std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
+}
+
 int run_detect(const DetectArgs& args) {
+  const SequenceArgs sequence{args.input,      args.topic,    args.frames,
+                              args.jsonl_path, args.tum_path, args.quiet};
+  if (is_sequence_run(sequence)) {
+    if (!args.json_path.empty() || !args.image_path.empty())
+      throw InputError("--json and --image take one cloud; a sequence writes --jsonl and --tum");
+    return run_detect_sequence(sequence, [&args](const PointCloud& first) {
+      std::optional<ResolutionEstimate> estimated;
+      PipelineOptions options = pipeline_options(args, first, estimated);
+      if (estimated && !args.quiet) report_estimate(*estimated);
+      return options;
+    });
+  }
+
   const auto start = std::chrono::steady_clock::now();
   io::LoadedCloud loaded = load_input(args);
   InputInfo info{
@@ -220,12 +230,7 @@ int run_detect(const DetectArgs& args) {
 
   std::optional<ResolutionEstimate> estimated;
   Pipeline pipeline(pipeline_options(args, loaded.cloud, estimated));
-  if (estimated && !args.quiet) {
-    std::cout << "resolution estimated from the cloud (" << estimated->method
-              << "): " << estimated->res_h_deg << " x " << estimated->res_v_deg << " deg";
-    if (estimated->rings > 0) std::cout << ", " << estimated->rings << " rings";
-    std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
-  }
+  if (estimated && !args.quiet) report_estimate(*estimated);
   info.resolution_source = estimated              ? "estimated (" + estimated->method + ")"
                            : !args.sensor.empty() ? "preset " + args.sensor
                                                   : "given";
@@ -256,7 +261,10 @@ Runner register_detect_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("detect",
                                      "Detect markers in a point cloud and estimate the "
                                      "LiDAR pose");
-  cmd->add_option("input", args->input, "Cloud file (.pcd, .bin) or folder of them")->required();
+  cmd->add_option("input", args->input,
+                  "Cloud file (.pcd, .bin, .ply, .txt), folder of them, or bag (.bag, ROS 2 "
+                  "folder, .db3)")
+      ->required();
   cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
   cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");
   cmd->add_option("--res-v", args->res_v, "Vertical angular resolution, degrees");
@@ -265,7 +273,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--map", args->map_path, "Marker map YAML: enables the LiDAR pose");
   cmd->add_option("--marker-size", args->marker_size,
                   "Edge of the black square (m) of markers not in the map: enables T_lidar_marker");
-  cmd->add_option("--frames", args->frames, "Integrate the first N cloud files of a folder")
+  cmd->add_option("--frames", args->frames,
+                  "Integrate N frames: a folder alone gives one result for its first N files; "
+                  "sequences slide an N-frame window")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--threshold", args->threshold,
                   "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
@@ -297,7 +307,10 @@ Runner register_detect_command(CLI::App& app) {
       ->check(CLI::Range(1, 255));
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
+  cmd->add_option("--topic", args->topic, "Bag topic with the point clouds (bag input)");
+  cmd->add_option("--jsonl", args->jsonl_path, "Sequence: one JSON result per frame (JSON Lines)");
+  cmd->add_option("--tum", args->tum_path, "Sequence: LiDAR trajectory in TUM format");
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success (and no progress bar)");
   return [args] { return run_detect(*args); };
 }
 

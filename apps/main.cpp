@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   add(iilfm::cli::register_sim_command);
   add(iilfm::cli::register_sensors_command);
   add(iilfm::cli::register_eval_command);
+  add(iilfm::cli::register_bag_command);
 
   try {
     app.parse(argc, argv);

@@ -9,7 +9,9 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # bag readers (ROS 1 bz2/lz4 chunks, ROS 2 sqlite3) and real bag writers for their tests
-  libbz2-dev liblz4-dev libsqlite3-dev python3-rosbag python3-sensor-msgs
+  libbz2-dev liblz4-dev libsqlite3-dev python3-rosbag python3-sensor-msgs python3-genpy
+  # PCL's command-line tools: PCD/PLY interoperability tests (about 20 MB download)
+  pcl-tools
   # Python bindings and their tests
   pybind11-dev python3-dev python3-numpy python3-pytest
   # HTML report tested in a real headless browser

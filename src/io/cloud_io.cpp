@@ -8,16 +8,43 @@
 #include "iilfm/error.hpp"
 
 namespace iilfm::io {
+namespace {
 
-LoadedCloud read_cloud(const std::string& path) {
-  const std::string extension = std::filesystem::path(path).extension().string();
-  std::string lower = extension;
+enum class CloudFormat { kUnknown, kPcd, kKitti, kPly, kText };
+
+CloudFormat format_of(const std::string& path) {
+  std::string lower = std::filesystem::path(path).extension().string();
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (lower == ".pcd") return read_pcd(path);
-  if (lower == ".bin") return read_kitti_bin(path);
+  if (lower == ".pcd") return CloudFormat::kPcd;
+  if (lower == ".bin") return CloudFormat::kKitti;
+  if (lower == ".ply") return CloudFormat::kPly;
+  if (lower == ".txt" || lower == ".xyz" || lower == ".xyzi" || lower == ".csv")
+    return CloudFormat::kText;
+  return CloudFormat::kUnknown;
+}
+
+}  // namespace
+
+bool is_cloud_file(const std::string& path) { return format_of(path) != CloudFormat::kUnknown; }
+
+LoadedCloud read_cloud(const std::string& path) {
+  switch (format_of(path)) {
+    case CloudFormat::kPcd:
+      return read_pcd(path);
+    case CloudFormat::kKitti:
+      return read_kitti_bin(path);
+    case CloudFormat::kPly:
+      return read_ply(path);
+    case CloudFormat::kText:
+      return read_xyz_text(path);
+    case CloudFormat::kUnknown:
+      break;
+  }
+  const std::string extension = std::filesystem::path(path).extension().string();
   const std::string shown = extension.empty() ? "(no extension)" : "'" + extension + "'";
-  throw file_error(path, "unsupported cloud format " + shown + " (supported: .pcd, .bin)");
+  throw file_error(path, "unsupported cloud format " + shown +
+                             " (supported: .pcd, .bin, .ply, .txt, .xyz, .xyzi, .csv)");
 }
 
 }  // namespace iilfm::io

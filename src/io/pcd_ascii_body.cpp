@@ -4,39 +4,13 @@
 #include <cstring>
 #include <string_view>
 
+#include "ascii_values.hpp"
 #include "iilfm/error.hpp"
 #include "pcd_body.hpp"
 #include "point_filter.hpp"
 
 namespace iilfm::io {
 namespace {
-
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
-// Splits `line` into `tokens` (reused across lines); returns the number of values found, which may
-// exceed tokens.size() when the line has too many.
-std::size_t split_values(std::string_view line, std::vector<std::string_view>& tokens) {
-  std::size_t found = 0;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && is_blank(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !is_blank(line[i])) ++i;
-    if (i == start) break;
-    if (found < tokens.size()) tokens[found] = line.substr(start, i - start);
-    ++found;
-  }
-  return found;
-}
-
-// strtod-like, without locale or allocation; accepts a leading '+', "nan" and "inf".
-bool parse_number(std::string_view token, double& value) {
-  const char* begin = token.data();
-  const char* end = begin + token.size();
-  if (begin != end && *begin == '+') ++begin;
-  const auto [stop, ec] = std::from_chars(begin, end, value);
-  return ec == std::errc() && stop == end;
-}
 
 class AsciiBodyParser {
  public:

@@ -25,10 +25,12 @@ TEST(ReadCloud, DispatchesOnExtension) {
 
 TEST(ReadCloud, RejectsOtherExtensions) {
   testing::TempDir dir;
-  const std::string xyz = dir.file("scan.xyz");
-  testing::write_bytes(xyz, "1 2 3\n");
-  EXPECT_INPUT_ERROR(read_cloud(xyz),
-                     xyz + ": unsupported cloud format '.xyz' (supported: .pcd, .bin)",
+  const std::string las = dir.file("scan.las");
+  testing::write_bytes(las, "LASF");
+  EXPECT_INPUT_ERROR(read_cloud(las),
+                     las +
+                         ": unsupported cloud format '.las' (supported: .pcd, .bin, .ply, .txt, "
+                         ".xyz, .xyzi, .csv)",
                      "unsupported");
   const std::string bare = dir.file("scan");
   EXPECT_INPUT_ERROR(read_cloud(bare), bare, "unsupported cloud format (no extension)");

@@ -21,8 +21,21 @@ LoadedCloud read_pcd(const std::string& path);
 // KITTI Velodyne .bin: consecutive little-endian float32 quadruples x, y, z, reflectance.
 LoadedCloud read_kitti_bin(const std::string& path);
 
-// Chooses the reader by file extension (.pcd, .bin); InputError for anything else.
+// PLY (ascii, binary_little_endian, binary_big_endian): the vertex element's x, y, z (any numeric
+// type); intensity from intensity, reflectivity or i, ring from ring, channel or line, time from
+// time, timestamp or t, each also with CloudCompare's "scalar_" prefix and in any letter case.
+LoadedCloud read_ply(const std::string& path);
+
+// Plain text: one point per line, x y z [intensity] separated by blanks or commas; '#' starts a
+// comment; one line of column names may come first; further columns are ignored.
+LoadedCloud read_xyz_text(const std::string& path);
+
+// Chooses the reader by file extension: .pcd, .bin, .ply, .txt/.xyz/.xyzi/.csv; InputError for
+// anything else.
 LoadedCloud read_cloud(const std::string& path);
+
+// True when read_cloud takes files with this path's extension.
+bool is_cloud_file(const std::string& path);
 
 enum class PcdEncoding { kAscii, kBinary, kBinaryCompressed };
 

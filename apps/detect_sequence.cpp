@@ -1,0 +1,157 @@
+#include "detect_sequence.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "iilfm/error.hpp"
+#include "iilfm/frame_window.hpp"
+#include "iilfm/io/bag.hpp"
+#include "iilfm/io/frame_source.hpp"
+#include "iilfm/report.hpp"
+#include "progress_bar.hpp"
+
+namespace iilfm::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// An output file written line by line and flushed after each line, so what was written before a
+// failure is complete and readable.
+class LineFile {
+ public:
+  explicit LineFile(const std::string& path) : path_(path) {
+    if (path.empty()) return;
+    file_.open(path);
+    if (!file_) throw file_error(path, "cannot open for writing");
+  }
+  bool active() const { return !path_.empty(); }
+  void write(const std::string& line) {
+    if (!active()) return;
+    if (!(file_ << line << '\n') || !file_.flush()) throw file_error(path_, "write failed");
+  }
+
+ private:
+  std::string path_;
+  std::ofstream file_;
+};
+
+// "1629371234.123456789 tx ty tz qx qy qz qw": the TUM RGB-D trajectory format.
+std::string tum_line(double stamp_s, const Isometry3& T) {
+  const Vec3 t = T.translation();
+  const Eigen::Quaterniond q(T.linear());
+  char line[256];
+  std::snprintf(line, sizeof line, "%.9f %.6f %.6f %.6f %.9f %.9f %.9f %.9f", stamp_s, t.x(), t.y(),
+                t.z(), q.x(), q.y(), q.z(), q.w());
+  return line;
+}
+
+// A frame (window) without valid points: no image to make, but the line keeps the sequence whole.
+nlohmann::json empty_result(const InputInfo& info) {
+  return {{"input",
+           {{"path", info.path},
+            {"points", info.stats.points_in_file},
+            {"valid_points", 0},
+            {"skipped_non_finite", info.stats.non_finite},
+            {"skipped_zero", info.stats.zero}}},
+          {"image", nullptr},
+          {"markers", nlohmann::json::array()},
+          {"pose", nullptr},
+          {"pose_missing_reason", "no valid points"},
+          {"timing_ms",
+           {{"read", info.read_ms},
+            {"project", 0},
+            {"preprocess", 0},
+            {"detect", 0},
+            {"lift", 0},
+            {"pose", 0},
+            {"total", info.read_ms}}}};
+}
+
+struct Counts {
+  std::size_t frames = 0, results = 0, with_markers = 0, with_pose = 0;
+};
+
+}  // namespace
+
+bool is_sequence_run(const SequenceArgs& args) {
+  return !args.jsonl_path.empty() || !args.tum_path.empty() || !args.topic.empty() ||
+         io::is_bag_path(args.input);
+}
+
+int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_options) {
+  std::optional<Pipeline> pipeline;  // made from the first window (it may estimate resolution)
+  const std::unique_ptr<io::FrameSource> source = io::open_frame_source(args.input, args.topic);
+  LineFile jsonl(args.jsonl_path), tum(args.tum_path);
+  FrameWindow window(static_cast<std::size_t>(args.frames));
+  ProgressBar progress(source->total(), !args.quiet);
+  Counts counts;
+  std::size_t window_first = 0;
+  std::vector<std::size_t> window_indices;
+
+  try {
+    io::Frame frame;
+    while (true) {
+      const Clock::time_point start = Clock::now();
+      if (!source->next(frame)) break;
+      ++counts.frames;
+      window.push(std::move(frame.loaded.cloud), frame.loaded.stats);
+      window_indices.push_back(frame.index);
+      if (window_indices.size() > window.capacity()) window_indices.erase(window_indices.begin());
+      window_first = window_indices.front();
+      if (!window.full()) continue;
+
+      const PointCloud& cloud = window.cloud();
+      const InputInfo info{frame.source, window.stats(), ms_since(start), ""};
+      nlohmann::json line;
+      if (cloud.empty()) {
+        line = empty_result(info);
+      } else {
+        if (!pipeline) pipeline.emplace(make_options(cloud));
+        const FrameResult& result = pipeline->process(cloud);
+        line = result_to_json(result, info);
+        if (!result.markers.empty()) ++counts.with_markers;
+        if (result.pose) {
+          ++counts.with_pose;
+          tum.write(tum_line(frame.stamp_s, result.pose->T_world_lidar));
+        }
+      }
+      line["frame"] = frame.index;
+      line["timestamp"] = frame.stamp_s;
+      if (window.capacity() > 1) line["window"] = {window_first, frame.index};
+      jsonl.write(line.dump());
+      ++counts.results;
+      progress.update(counts.frames);
+    }
+  } catch (const InputError& e) {
+    progress.finish();
+    std::string done = "after " + std::to_string(counts.frames) + " frames";
+    if (jsonl.active() || tum.active())
+      done += "; the results before it are in " +
+              (jsonl.active() ? args.jsonl_path : std::string()) +
+              (jsonl.active() && tum.active() ? " and " : "") +
+              (tum.active() ? args.tum_path : std::string());
+    throw InputError(std::string(e.what()) + " (" + done + ")");
+  }
+  progress.finish();
+  if (counts.frames < static_cast<std::size_t>(args.frames))
+    throw file_error(source->name(), "--frames " + std::to_string(args.frames) +
+                                         " but the recording holds " +
+                                         std::to_string(counts.frames) + " frames");
+  if (!args.quiet) {
+    std::printf(
+        "%zu frames from %s: %zu result(s), markers in %zu, LiDAR pose in %zu; %.1f frames/s\n",
+        counts.frames, source->name().c_str(), counts.results, counts.with_markers,
+        counts.with_pose, progress.rate(counts.frames));
+  }
+  return 0;
+}
+
+}  // namespace iilfm::cli

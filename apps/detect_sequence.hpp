@@ -1,0 +1,29 @@
+// `iilfm detect` on a recording: every frame (or every sliding window of N frames) of a folder or
+// a bag topic through one pipeline, one JSON line per result and the LiDAR trajectory in TUM form.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "iilfm/pipeline.hpp"
+
+namespace iilfm::cli {
+
+struct SequenceArgs {
+  std::string input;  // folder of cloud files, or a bag with `topic`
+  std::string topic;
+  int frames = 1;  // integration window, sliding by one frame
+  std::string jsonl_path, tum_path;
+  bool quiet = false;
+};
+
+// True when `detect` should run over the whole recording rather than one (integrated) cloud.
+bool is_sequence_run(const SequenceArgs& args);
+
+// Processes the recording; returns the exit status. Damage part-way (a corrupt frame or chunk)
+// raises InputError after the frames before it were processed and written.
+// Options for the pipeline, given the first window's cloud (for an estimated resolution).
+using PipelineFactory = std::function<PipelineOptions(const PointCloud& first_window)>;
+int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_options);
+
+}  // namespace iilfm::cli

@@ -1,0 +1,122 @@
+#include "iilfm/io/frame_source.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+
+#include "iilfm/error.hpp"
+#include "iilfm/io/bag.hpp"
+
+namespace iilfm::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A file name that is a time: "1629371234.5.pcd" (seconds) or "1629371234500000000.pcd" (ns).
+bool stamp_from_name(const std::string& path, double& stamp_s) {
+  const std::string stem = fs::path(path).stem().string();
+  if (stem.empty()) return false;
+  const bool integer = std::all_of(stem.begin(), stem.end(), ::isdigit);
+  if (integer && stem.size() >= 16) {
+    std::uint64_t ns = 0;
+    const auto [end, ec] = std::from_chars(stem.data(), stem.data() + stem.size(), ns);
+    if (ec != std::errc() || end != stem.data() + stem.size()) return false;
+    stamp_s =
+        static_cast<double>(ns / 1'000'000'000) + static_cast<double>(ns % 1'000'000'000) * 1e-9;
+    return true;
+  }
+  const auto [end, ec] = std::from_chars(stem.data(), stem.data() + stem.size(), stamp_s);
+  return ec == std::errc() && end == stem.data() + stem.size();
+}
+
+class FolderFrames final : public FrameSource {
+ public:
+  explicit FolderFrames(const std::string& folder) : name_(folder), files_(cloud_files_in(folder)) {
+    if (files_.empty())
+      throw file_error(folder, "folder holds no cloud files (.pcd, .bin, .ply, .txt, .xyz, .xyzi)");
+  }
+  bool next(Frame& frame) override {
+    if (next_ >= files_.size()) return false;
+    const std::string& file = files_[next_];
+    frame.loaded = read_cloud(file);
+    frame.index = next_;
+    frame.source = file;
+    if (!stamp_from_name(file, frame.stamp_s)) frame.stamp_s = static_cast<double>(next_);
+    ++next_;
+    return true;
+  }
+  std::size_t total() const override { return files_.size(); }
+  const std::string& name() const override { return name_; }
+
+ private:
+  std::string name_;
+  std::vector<std::string> files_;
+  std::size_t next_ = 0;
+};
+
+class BagFrames final : public FrameSource {
+ public:
+  BagFrames(const std::string& path, const std::string& topic)
+      : bag_(open_bag(path)), topic_(topic), name_(path + ":" + topic) {
+    bag_->select(topic);
+    for (const BagTopic& t : bag_->topics()) {
+      if (t.name != topic) continue;
+      if (!is_cloud_message_type(t.type))
+        throw file_error(path, "topic " + topic + " has type " + t.type +
+                                   ", not a point cloud (supported: " + cloud_message_types() +
+                                   ")");
+      total_ = t.messages;
+    }
+  }
+  bool next(Frame& frame) override {
+    BagMessage message;
+    if (!bag_->next(message)) return false;
+    frame.index = index_;
+    frame.source = name_ + "#" + std::to_string(index_);
+    CloudMessage decoded = decode_cloud_message(message, bag_->path() + ": " + frame.source);
+    const std::int64_t stamp_ns =
+        decoded.header_stamp_ns != 0 ? decoded.header_stamp_ns : message.stamp_ns;
+    frame.stamp_s = static_cast<double>(stamp_ns / 1'000'000'000) +
+                    static_cast<double>(stamp_ns % 1'000'000'000) * 1e-9;
+    frame.loaded = std::move(decoded.loaded);
+    ++index_;
+    return true;
+  }
+  std::size_t total() const override { return total_; }
+  const std::string& name() const override { return name_; }
+
+ private:
+  std::unique_ptr<BagReader> bag_;
+  std::string topic_, name_;
+  std::size_t total_ = 0, index_ = 0;
+};
+
+}  // namespace
+
+std::vector<std::string> cloud_files_in(const std::string& folder) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.is_regular_file() && is_cloud_file(entry.path().string()))
+      files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::unique_ptr<FrameSource> open_frame_source(const std::string& input, const std::string& topic) {
+  if (!fs::exists(input)) throw file_error(input, "no such file or folder");
+  if (!topic.empty()) return std::make_unique<BagFrames>(input, topic);
+  if (is_bag_path(input)) {
+    std::string topics;
+    const std::unique_ptr<BagReader> bag = open_bag(input);
+    for (const BagTopic& t : bag->topics())
+      if (is_cloud_message_type(t.type)) topics += (topics.empty() ? "" : ", ") + t.name;
+    throw file_error(input, "a bag needs --topic (point cloud topics: " +
+                                (topics.empty() ? std::string("none") : topics) + ")");
+  }
+  if (!fs::is_directory(input))
+    throw file_error(input, "a sequence needs a folder of cloud files or a bag with --topic");
+  return std::make_unique<FolderFrames>(input);
+}
+
+}  // namespace iilfm::io
