@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "detect_image.hpp"
 #include "detect_sequence.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/io/cloud_io.hpp"
@@ -67,7 +68,9 @@ io::LoadedCloud load_input(const DetectArgs& args) {
     return io::read_cloud(args.input);
   }
   const std::vector<std::string> files = io::cloud_files_in(args.input);
-  if (files.empty()) throw file_error(args.input, "folder holds no cloud files (.pcd, .bin, .ply, .txt, .xyz, .xyzi)");
+  if (files.empty())
+    throw file_error(args.input,
+                     "folder holds no cloud files (.pcd, .bin, .ply, .txt, .xyz, .xyzi)");
   if (static_cast<std::size_t>(args.frames) > files.size())
     throw file_error(args.input, "--frames " + std::to_string(args.frames) +
                                      " but the folder holds " + std::to_string(files.size()) +
@@ -117,11 +120,14 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
 
   if (args.threshold == "otsu") {
     threshold.reset();
+  } else if (args.threshold == "local") {
+    options.preprocess.local_threshold = true;  // flat regions: the preset's or Otsu's
   } else if (!args.threshold.empty()) {
     char* end = nullptr;
     const double t = std::strtod(args.threshold.c_str(), &end);
     if (end == args.threshold.c_str() || *end != '\0' || !std::isfinite(t))
-      throw InputError("--threshold must be a number or 'otsu', got '" + args.threshold + "'");
+      throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + args.threshold +
+                       "'");
     threshold = t;
   }
   options.preprocess.threshold = threshold;
@@ -202,6 +208,19 @@ void report_estimate(const ResolutionEstimate& estimated) {
 }
 
 int run_detect(const DetectArgs& args) {
+  if (is_image_input(args.input) && std::filesystem::is_regular_file(args.input)) {
+    PipelineOptions options;
+    std::optional<ResolutionEstimate> none;
+    if (!args.sensor.empty() || (args.res_h > 0 && args.res_v > 0)) {
+      options = pipeline_options(args, PointCloud{}, none);
+    } else {
+      // No geometry known: square pixels. Gray input levels, so Otsu unless --threshold.
+      DetectArgs square = args;
+      square.res_h = square.res_v = 1;
+      options = pipeline_options(square, PointCloud{}, none);
+    }
+    return run_detect_image({args.input, args.json_path, args.image_path, args.quiet}, options);
+  }
   const SequenceArgs sequence{args.input,      args.topic,    args.frames,
                               args.jsonl_path, args.tum_path, args.quiet};
   if (is_sequence_run(sequence)) {
@@ -277,8 +296,10 @@ Runner register_detect_command(CLI::App& app) {
                   "Integrate N frames: a folder alone gives one result for its first N files; "
                   "sequences slide an N-frame window")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--threshold", args->threshold,
-                  "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
+  cmd->add_option(
+      "--threshold", args->threshold,
+      "Naive threshold in intensity units, 'otsu', or 'local' (local mean where the image "
+      "has contrast; default: the preset's, or Otsu without one)");
   cmd->add_option("--lift", args->lift, "3-D corners: plane (marker-plane fit, default) or paper");
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
   cmd->add_option("--rows", args->rows,

@@ -87,6 +87,33 @@ double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask, double scale) {
   return best_t * scale / 255.0;
 }
 
+// 255 where brighter than the valid pixels' mean around it; where the window is nearly flat (a
+// wall, the sky), where brighter than the global threshold.
+cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double global_threshold,
+                         double scale, const PreprocessOptions& options) {
+  const int w = std::max(3, options.local_window | 1);
+  cv::Mat weight, values, squares, sum, sum_sq, count;
+  valid.convertTo(weight, CV_32F, 1.0 / 255.0);
+  cv::multiply(filled, weight, values);
+  cv::multiply(values, filled, squares);
+  const cv::Size window(w, w);
+  cv::boxFilter(values, sum, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::boxFilter(squares, sum_sq, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::boxFilter(weight, count, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  count = cv::max(count, 1.0f);
+  cv::Mat mean, mean_sq, variance;
+  cv::divide(sum, count, mean);
+  cv::divide(sum_sq, count, mean_sq);
+  cv::subtract(mean_sq, mean.mul(mean), variance);
+  const double min_spread = options.local_min_contrast * scale;
+  cv::Mat contrasted = variance > static_cast<float>(min_spread * min_spread);
+  cv::Mat local = filled > mean, global = filled > global_threshold;
+  cv::Mat above;
+  global.copyTo(above);
+  local.copyTo(above, contrasted);
+  return above;
+}
+
 }  // namespace
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
@@ -121,7 +148,10 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   out.threshold = options.threshold ? *options.threshold
                                     : otsu_threshold(out.gray, filled_mask, out.intensity_scale);
   if (options.binarize) {
-    cv::Mat above = filled > out.threshold;  // 255 where brighter than the threshold
+    cv::Mat above = options.local_threshold
+                        ? above_local_mean(filled, filled_mask, out.threshold, out.intensity_scale,
+                                           options)
+                        : filled > out.threshold;  // 255 where brighter than the threshold
     out.detect.create(filled.size(), CV_8U);
     out.detect.setTo(0);
     out.detect.setTo(255, above & filled_mask);

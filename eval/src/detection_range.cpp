@@ -24,12 +24,12 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
 std::vector<RangeResult> detection_range(const RangeQuery& query,
                                          const std::vector<RangeSettings>& settings) {
   std::vector<RangeResult> results;
-  for (RangeSettings s : settings) results.push_back({query, s, 0, {}, 0});
-  // A walk ends after two failures in a row once the marker was found, or after six before (a
+  for (RangeSettings s : settings) results.push_back({query, s, 0, 0, {}, 0});
+  // A walk ends after two failures in a row once the marker was found, or after eight before (a
   // large marker may not fit the field of view up close).
   std::vector<int> failures_in_a_row(settings.size(), 0);
   std::vector<bool> seen(settings.size(), false);
-  auto done = [&](std::size_t k) { return failures_in_a_row[k] >= (seen[k] ? 2 : 6); };
+  auto done = [&](std::size_t k) { return failures_in_a_row[k] >= (seen[k] ? 2 : 8); };
   for (double distance : query.distances) {
     CaseSpec spec;
     spec.scene = "tag-wall";
@@ -61,6 +61,7 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
       if (done(k)) continue;
       results[k].found.emplace_back(distance, found[k]);
       if (found[k] >= query.required) {
+        if (!seen[k]) results[k].min_distance_m = distance;
         results[k].max_distance_m = distance;
         failures_in_a_row[k] = 0;
         seen[k] = true;
@@ -81,13 +82,14 @@ std::string range_table_markdown(const std::vector<RangeResult>& results) {
     if (!rows.count(key)) order.push_back(key);
     rows[key][r.settings] = &r;
   }
-  auto metres = [](double d) {
-    char text[32];
-    std::snprintf(text, sizeof text, d > 0 ? "%.1f m" : "-", d);
+  auto metres = [](const RangeResult& r) {
+    char text[48] = "-";
+    if (r.max_distance_m > 0)
+      std::snprintf(text, sizeof text, "%.1f-%.1f m", r.min_distance_m, r.max_distance_m);
     return std::string(text);
   };
   std::string out =
-      "| sensor | marker | paper settings | iilfm defaults | gain | false positives |\n"
+      "| sensor | marker | paper settings | iilfm defaults | gain (farthest) | false positives |\n"
       "|---|---|---|---|---|---|\n";
   for (const auto& key : order) {
     const auto& by = rows[key];
@@ -102,9 +104,8 @@ std::string range_table_markdown(const std::vector<RangeResult>& results) {
     else if (paper && ours && ours->max_distance_m > 0)
       std::snprintf(gain, sizeof gain, "new");
     const int fp = (paper ? paper->false_positives : 0) + (ours ? ours->false_positives : 0);
-    out += "| " + key.first + " | " + size + " | " + (paper ? metres(paper->max_distance_m) : "") +
-           " | " + (ours ? metres(ours->max_distance_m) : "") + " | " + gain + " | " +
-           std::to_string(fp) + " |\n";
+    out += "| " + key.first + " | " + size + " | " + (paper ? metres(*paper) : "") + " | " +
+           (ours ? metres(*ours) : "") + " | " + gain + " | " + std::to_string(fp) + " |\n";
   }
   return out;
 }

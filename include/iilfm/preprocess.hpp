@@ -13,6 +13,13 @@ namespace iilfm {
 struct PreprocessOptions {
   // Naive threshold in the cloud's intensity units; unset = Otsu's threshold over observed pixels.
   std::optional<double> threshold;
+  // Local threshold (`--threshold local`): a pixel is white when brighter than the mean of the
+  // local_window x local_window pixels around it, wherever that window's intensity spread (standard
+  // deviation) exceeds local_min_contrast of the gray scale; flat regions keep the global
+  // threshold above. One threshold then serves markers lit or printed differently across a scene.
+  bool local_threshold = false;
+  int local_window = 15;
+  double local_min_contrast = 0.1;
   bool binarize = true;    // the paper's mandatory binarisation
   bool fill_holes = true;  // give unobserved pixels the mean of their observed 8-neighbours
   int fill_min_neighbours = 3;

@@ -34,12 +34,13 @@ struct RangeQuery {
 struct RangeResult {
   RangeQuery query;
   RangeSettings settings = RangeSettings::kIilfm;
-  double max_distance_m = 0;                  // 0: not found reliably at any distance tried
+  double min_distance_m = 0;  // nearest distance found reliably (0: none)
+  double max_distance_m = 0;  // farthest before the walk ended (0: not found reliably anywhere)
   std::vector<std::pair<double, int>> found;  // distance -> seeds with the marker found
   int false_positives = 0;                    // over every scan tried
 };
 
-// Walks the distances outwards until two in a row fail (six before the first success); both
+// Walks the distances outwards until two in a row fail (eight before the first success); both
 // settings see the same scans. One result per entry of `settings`.
 std::vector<RangeResult> detection_range(const RangeQuery& query,
                                          const std::vector<RangeSettings>& settings);

@@ -1,0 +1,114 @@
+#include "detect_image.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "commands.hpp"
+#include "iilfm/error.hpp"
+#include "iilfm/report.hpp"
+#include "iilfm/square_pixels.hpp"
+
+namespace iilfm::cli {
+
+namespace {
+constexpr double kDegToRad = M_PI / 180.0;
+}
+
+bool is_image_input(const std::string& path) {
+  std::string ext = path.substr(std::min(path.size(), path.find_last_of('.')));
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  return ext == ".png" || ext == ".pgm" || ext == ".tif" || ext == ".tiff";
+}
+
+int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  cv::Mat raw;
+  try {
+    raw = cv::imread(args.path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    raw.release();
+  }
+  if (raw.empty()) throw file_error(args.path, "cannot read the image (PNG, PGM or TIFF)");
+  if (raw.channels() != 1)
+    throw file_error(args.path, "expected a single-channel intensity image, got " +
+                                    std::to_string(raw.channels()) + " channels");
+  if (raw.depth() != CV_8U && raw.depth() != CV_16U)
+    throw file_error(args.path, "expected an 8- or 16-bit intensity image");
+
+  // The image stands in for the projected intensity; 0 is "no return", as drivers write it.
+  FrameResult result;
+  ProjectedImage& image = result.image;
+  raw.convertTo(image.intensity, CV_32F);
+  image.mask = raw > 0;
+  image.range = cv::Mat::zeros(raw.size(), CV_32F);
+  image.index = cv::Mat(raw.size(), CV_32S, cv::Scalar(-1));
+  image.count = image.mask / 255;
+  image.count.convertTo(image.count, CV_32S);
+  image.geometry.width = raw.cols;
+  image.geometry.height = raw.rows;
+  image.geometry.res_h = options.projection.res_h_deg * kDegToRad;
+  image.geometry.res_v = options.projection.res_v_deg * kDegToRad;
+  image.geometry.u0 = (raw.cols - 1) / 2.0;
+  image.geometry.v0 = (raw.rows - 1) / 2.0;
+  const double read_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+  const auto detect_start = std::chrono::steady_clock::now();
+  preprocess(image, options.preprocess, result.preprocessed);
+  const auto detected = std::chrono::steady_clock::now();
+  result.times_ms.preprocess =
+      std::chrono::duration<double, std::milli>(detected - detect_start).count();
+  std::vector<Detection> detections;
+  for (const std::string& family : options.families)
+    make_detector(family, options.detector)->detect(result.preprocessed.detect, detections);
+  for (Detection& d : detections) {
+    for (Vec2& px : d.corners_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);
+    MarkerResult marker;
+    marker.detection = std::move(d);
+    result.markers.push_back(std::move(marker));
+  }
+  result.times_ms.detect =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - detected)
+          .count();
+  result.pose_missing_reason = "2-D image input: no 3-D points";
+
+  if (!args.json_path.empty()) {
+    CloudStats stats;
+    stats.points_in_file = raw.total();
+    stats.valid_points = static_cast<std::size_t>(cv::countNonZero(image.mask));
+    const InputInfo info{args.path, stats, read_ms, "image pixels"};
+    nlohmann::json j = result_to_json(result, info);
+    j["input"]["kind"] = "image";
+    std::ofstream file(args.json_path);
+    if (!file || !(file << j.dump(2) << "\n") || !file.flush())
+      throw file_error(args.json_path, "cannot write JSON");
+  }
+  if (!args.image_path.empty()) {
+    bool written = false;
+    try {
+      written = cv::imwrite(args.image_path, draw_overlay(result));
+    } catch (const cv::Exception&) {
+      written = false;
+    }
+    if (!written) throw file_error(args.image_path, "cannot write image (use a .png path)");
+  }
+  if (!args.quiet) {
+    std::cout << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
+              << result.preprocessed.threshold << "\n"
+              << result.markers.size() << " marker(s)\n"
+              << std::fixed << std::setprecision(1);
+    for (const MarkerResult& m : result.markers) {
+      std::cout << "  " << m.detection.family << " id " << m.detection.id << ":";
+      for (const Vec2& px : m.detection.corners_px)
+        std::cout << " (" << px.x() << ", " << px.y() << ")";
+      std::cout << " px\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace iilfm::cli
