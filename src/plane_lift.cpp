@@ -42,7 +42,7 @@ std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point or
 
 // Points of the observed pixels inside `polygon_px` but not inside `excluded_px` (may be empty).
 std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                                const PointCloud& cloud,
+                                const PointView& cloud,
                                 const std::vector<Vec2>& excluded_px = {}) {
   std::vector<Vec3> points;
   if (polygon_px.size() < 3) return points;
@@ -119,7 +119,7 @@ std::vector<Vec2> scaled_about_centre(const std::vector<Vec2>& polygon, double s
 }  // namespace
 
 Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                       const PointCloud& cloud, const PlaneFitOptions& options) {
+                       const PointView& cloud, const PlaneFitOptions& options) {
   std::vector<Vec3> marker_points = points_inside(polygon_px, image, cloud);
   if (marker_points.size() < options.min_points) return Plane{};
   double band = 0;
