@@ -14,6 +14,7 @@
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
+#include "iilfm/report_html.hpp"
 #include "iilfm/sensor.hpp"
 
 namespace iilfm::cli {
@@ -42,7 +43,7 @@ struct DetectArgs {
   int aruco_window_min = ArucoOptions{}.window_min;
   int aruco_window_max = ArucoOptions{}.window_max;
   int aruco_window_step = ArucoOptions{}.window_step;
-  std::string json_path, image_path;
+  std::string json_path, image_path, html_path;
   bool quiet = false;
 };
 
@@ -188,6 +189,7 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
 
 int run_detect(const DetectArgs& args) {
   PipelineOptions options = pipeline_options(args);
+  if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
   Pipeline pipeline(std::move(options));
 
   const auto start = std::chrono::steady_clock::now();
@@ -218,6 +220,8 @@ int run_detect(const DetectArgs& args) {
     }
     if (!written) throw file_error(args.image_path, "cannot write image (use a .png path)");
   }
+  if (!args.html_path.empty())
+    write_html_report(args.html_path, {HtmlFrame{&result, info, PointView(loaded.cloud)}});
   if (!args.quiet) print_summary(result, loaded, std::cout);
   return 0;
 }
@@ -266,6 +270,8 @@ Runner register_detect_command(CLI::App& app) {
       ->check(CLI::Range(1, 255));
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
+  cmd->add_option("--html", args->html_path,
+                  "Write a self-contained HTML report (3-D view, image, tables)");
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success");
   return [args] { return run_detect(*args); };
 }

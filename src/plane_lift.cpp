@@ -42,8 +42,7 @@ std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point or
 
 // Points of the observed pixels inside `polygon_px` but not inside `excluded_px` (may be empty).
 std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                                const PointView& cloud,
-                                const std::vector<Vec2>& excluded_px = {}) {
+                                const PointView& cloud, const std::vector<Vec2>& excluded_px = {}) {
   std::vector<Vec3> points;
   if (polygon_px.size() < 3) return points;
   const ImageGeometry& g = image.geometry;

@@ -73,7 +73,8 @@ TEST(PointView, InterleavedRowsGiveTheSameFrameResultAsTheCloud) {
     EXPECT_TRUE(same(got.image.index, expected.image.index));
     ASSERT_EQ(got.markers.size(), 1u);
     for (std::size_t k = 0; k < 4; ++k) {
-      EXPECT_EQ(got.markers[0].detection.corners_px[k], expected.markers[0].detection.corners_px[k]);
+      EXPECT_EQ(got.markers[0].detection.corners_px[k],
+                expected.markers[0].detection.corners_px[k]);
       EXPECT_EQ(got.markers[0].corners[k].point, expected.markers[0].corners[k].point);
     }
     ASSERT_TRUE(got.pose.has_value());
