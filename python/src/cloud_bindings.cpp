@@ -1,5 +1,6 @@
 // iilfm.Cloud and iilfm.read_cloud: files read by the C++ readers, columns shown as numpy views.
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
 
@@ -87,7 +88,8 @@ void register_cloud(py::module_& m) {
 
   m.def(
       "read_cloud",
-      [](const std::string& path) {
+      [](const std::filesystem::path& file) {
+        const std::string path = file.string();
         // The check and message of `iilfm detect`, which looks before it reads.
         if (!std::filesystem::exists(path)) throw file_error(path, "no such file or folder");
         io::LoadedCloud loaded;

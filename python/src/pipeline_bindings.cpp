@@ -1,8 +1,10 @@
 // iilfm.Pipeline and its results. Options mirror `iilfm detect`'s and are checked with the same
 // messages; results carry numpy arrays (corners, 4x4 poses, the images).
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 
 #include "bindings.hpp"
@@ -10,6 +12,7 @@
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
+#include "iilfm/report_html.hpp"
 #include "points_input.hpp"
 
 namespace iilfm::python {
@@ -145,6 +148,7 @@ struct Pose {
 
 struct Result {
   std::shared_ptr<FrameResult> frame;
+  std::shared_ptr<PointsInput> points;  // the frame's points (kept alive for write_html)
   InputInfo input;
   bool copied = false;
   std::vector<std::int32_t> original_row;
@@ -216,7 +220,8 @@ class PyPipeline {
     last_x_address_ = reinterpret_cast<std::uintptr_t>(in->view.x.data);
     r.input = InputInfo{in->path.empty() ? "<array>" : in->path, in->stats, 0};
     r.copied = in->copied;
-    r.original_row = std::move(in->original_row);
+    r.original_row = in->original_row;
+    r.points = std::move(in);
     for (const MarkerResult& m : r.frame->markers) r.markers.push_back(marker_of(m));
     if (r.frame->pose) r.pose = pose_of(*r.frame->pose);
     return r;
@@ -382,6 +387,20 @@ void register_pipeline(py::module_& m) {
             return rgb;
           },
           "The picture `iilfm detect --image` writes, as an (H, W, 3) uint8 RGB array.")
+      .def(
+          "write_html",
+          [](const Result& r, const std::filesystem::path& path, const std::string& title,
+             std::size_t max_points) {
+            HtmlReportOptions options;
+            options.title = title;
+            options.max_points = max_points;
+            write_html_report(path.string(), {HtmlFrame{r.frame.get(), r.input, r.points->view}},
+                              options);
+          },
+          py::arg("path"), py::arg("title") = HtmlReportOptions{}.title,
+          py::arg("max_points") = HtmlReportOptions{}.max_points,
+          "Writes the self-contained HTML report of this frame, as `iilfm detect --html` does "
+          "(3-D view of the points given to detect(), image, tables).")
       .def("__repr__", [](const Result& r) {
         return "<iilfm.Result " + std::to_string(r.markers.size()) + " marker(s), " +
                (r.pose ? "pose" : "no pose") + ">";
@@ -391,7 +410,7 @@ void register_pipeline(py::module_& m) {
                          "Detection pipeline: projection, preprocessing, detection, lifting, "
                          "pose. Options mirror `iilfm detect`'s; one Pipeline per thread.")
       .def(py::init([](std::optional<std::string> sensor, std::vector<std::string> markers,
-                       std::optional<std::string> map, std::optional<double> res_h,
+                       std::optional<std::filesystem::path> map, std::optional<double> res_h,
                        std::optional<double> res_v, std::optional<double> marker_size,
                        py::object threshold, std::string lift, std::string collision, double blur,
                        bool gray, float decimate, float quad_sigma, bool refine_edges, int threads,
@@ -400,7 +419,7 @@ void register_pipeline(py::module_& m) {
              Options o;
              o.sensor = std::move(sensor);
              o.markers = std::move(markers);
-             o.map = std::move(map);
+             if (map) o.map = map->string();
              o.res_h = res_h;
              o.res_v = res_v;
              o.marker_size = marker_size;

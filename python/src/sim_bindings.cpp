@@ -1,7 +1,9 @@
 // iilfm.simulate: the scan simulator of `iilfm sim`, with the same options and messages.
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 
 #include "bindings.hpp"
@@ -161,7 +163,7 @@ py::tuple simulate(const SimArgs& a) {
 void register_simulate(py::module_& m) {
   m.def(
       "simulate",
-      [](std::string scene, std::optional<std::string> scene_file,
+      [](std::string scene, std::optional<std::filesystem::path> scene_file,
          std::optional<std::string> sensor, std::optional<int> frames, std::uint64_t seed,
          std::optional<std::string> family, std::optional<int> id,
          std::optional<double> marker_size, std::optional<double> distance,
@@ -173,7 +175,10 @@ void register_simulate(py::module_& m) {
          std::optional<std::string> truth) {
         SimArgs a;
         a.scene = std::move(scene);
-        a.scene_file = std::move(scene_file);
+        auto text = [](const std::optional<std::filesystem::path>& p) {
+          return p ? std::optional<std::string>(p->string()) : std::nullopt;
+        };
+        a.scene_file = text(scene_file);
         a.sensor = std::move(sensor);
         a.frames = frames;
         a.seed = seed;
@@ -192,9 +197,9 @@ void register_simulate(py::module_& m) {
         a.min_range = min_range;
         a.lidar_xyz = std::move(lidar_xyz);
         a.lidar_rpy = std::move(lidar_rpy);
-        a.out = std::move(out);
-        a.map = std::move(map);
-        a.truth = std::move(truth);
+        a.out = text(out);
+        a.map = text(map);
+        a.truth = text(truth);
         return simulate(a);
       },
       py::kw_only(), py::arg("scene") = "tag-wall", py::arg("scene_file") = py::none(),

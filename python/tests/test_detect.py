@@ -152,3 +152,22 @@ def test_pose_and_marker_values(scan, pipeline):
     no_map = iilfm.Pipeline(sensor="mid40").detect(iilfm.read_cloud(scan["pcd"]))
     assert no_map.pose is None and no_map.pose_missing_reason == "no marker map given"
     assert all(m.T_lidar_marker is None for m in no_map.markers)
+
+
+def test_paths_and_the_html_report(scan, pipeline, tmp_path):
+    from pathlib import Path
+    result = pipeline.detect(iilfm.read_cloud(Path(scan["pcd"])))
+    page = tmp_path / "report.html"
+    result.write_html(page, title="python <report>", max_points=5000)
+    text = page.read_text()
+    assert text.startswith("<!doctype html>") and "<title>python &lt;report&gt;</title>" in text
+    import json
+    import re
+    data = json.loads(re.search(r'<script id="iilfm-data" type="application/json">(.*?)</script>',
+                                text, re.S).group(1).replace("<\\/", "</"))
+    frame = data["frames"][0]
+    assert [m["id"] for m in frame["markers"]] == [m["id"] for m in scan["json"]["markers"]]
+    assert frame["cloud"]["shown"] <= 5000 and frame["cloud"]["total"] == len(
+        iilfm.read_cloud(scan["pcd"]))
+    assert "Three.js Authors" in text  # the MIT notice stays in the bundle
+    assert frame["overlay_image"].startswith("data:image/jpeg;base64,")

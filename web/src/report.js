@@ -146,7 +146,15 @@ function buildScene(frame, container) {
       if (c) box.expandByPoint(new THREE.Vector3(...c).applyMatrix4(lidar.matrixWorld));
   const sphere = points.geometry.boundingSphere.clone().applyMatrix4(lidar.matrixWorld);
   if (box.isEmpty()) target.copy(sphere.center); else box.getCenter(target);
-  const eye = new THREE.Vector3(-1.5, 0.6, 0.8).applyMatrix4(lidar.matrixWorld);
+  // From beside and above the LiDAR, a quarter of the way towards the target.
+  const origin = new THREE.Vector3().applyMatrix4(lidar.matrixWorld);
+  const back = origin.clone().sub(target);
+  if (back.length() < 1e-6) back.set(-1, 0, 0);
+  const side = new THREE.Vector3().crossVectors(back, camera.up).normalize();
+  const eye = target.clone()
+                  .addScaledVector(back, 0.75)
+                  .addScaledVector(side, 0.35 * back.length())
+                  .addScaledVector(camera.up, 0.25 * back.length());
   const radius = Math.max(1, target.distanceTo(eye));
   camera.position.copy(eye);
   camera.far = Math.max(100, 4 * (sphere.radius + radius));
@@ -176,7 +184,7 @@ function frameTables(frame) {
   const parts = [];
   parts.push(element('h2', {}, ['Markers']));
   parts.push(table(
-      'markers', ['family', 'id', 'corners observed', 'distance (m)', 'x y z (m)', 'fit rms (mm)',
+      'markers', ['family', 'id', 'corners observed', 'distance (m)', 'centre, LiDAR frame (m)', 'fit rms (mm)',
                   'in map', 'decision margin'],
       frame.markers.map((m) => {
         const known = m.corners_lidar.filter((c) => c);
