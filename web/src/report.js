@@ -90,8 +90,9 @@ function markerObject(m) {
       group.add(new THREE.Line(geometry, new THREE.LineBasicMaterial({color: 0xff9900})));
     }
     if (a) {
-      const dot = new THREE.Mesh(new THREE.SphereGeometry(0.008, 8, 6),
-                                 new THREE.MeshBasicMaterial({color: CORNER_COLORS[k % 4]}));
+      const dot = new THREE.Mesh(
+          new THREE.SphereGeometry(0.008, 8, 6),
+          new THREE.MeshBasicMaterial({color: CORNER_COLORS[k % 4]}));
       dot.position.copy(a);
       group.add(dot);
     }
@@ -145,7 +146,10 @@ function buildScene(frame, container) {
     for (const c of m.corners_lidar)
       if (c) box.expandByPoint(new THREE.Vector3(...c).applyMatrix4(lidar.matrixWorld));
   const sphere = points.geometry.boundingSphere.clone().applyMatrix4(lidar.matrixWorld);
-  if (box.isEmpty()) target.copy(sphere.center); else box.getCenter(target);
+  if (box.isEmpty())
+    target.copy(sphere.center);
+  else
+    box.getCenter(target);
   // From beside and above the LiDAR, a quarter of the way towards the target.
   const origin = new THREE.Vector3().applyMatrix4(lidar.matrixWorld);
   const back = origin.clone().sub(target);
@@ -184,20 +188,24 @@ function frameTables(frame) {
   const parts = [];
   parts.push(element('h2', {}, ['Markers']));
   parts.push(table(
-      'markers', ['family', 'id', 'corners observed', 'distance (m)', 'centre, LiDAR frame (m)', 'fit rms (mm)',
-                  'in map', 'decision margin'],
+      'markers',
+      [
+        'family', 'id', 'corners observed', 'distance (m)', 'centre, LiDAR frame (m)',
+        'fit rms (mm)', 'in map', 'decision margin'
+      ],
       frame.markers.map((m) => {
         const known = m.corners_lidar.filter((c) => c);
-        const c = known.length ? known.reduce((s, p) => s.map((v, i) => v + p[i] / known.length),
-                                              [0, 0, 0])
-                               : null;
+        const c = known.length ?
+            known.reduce((s, p) => s.map((v, i) => v + p[i] / known.length), [0, 0, 0]) :
+            null;
         return {
           attrs: {'data-id': m.id, 'data-family': m.family},
-          cells: [m.family, m.id, `${m.observed.filter((o) => o).length}/${m.observed.length}`,
-                  c ? fixed(Math.hypot(...c), 3) : '-',
-                  c ? c.map((v) => fixed(v, 3)).join(' ') : '-',
-                  m.T_lidar_marker ? fixed(1000 * m.marker_fit_rms_m, 2) : '-',
-                  m.in_map ? 'yes' : 'no', fixed(m.decision_margin, 1)],
+          cells: [
+            m.family, m.id, `${m.observed.filter((o) => o).length}/${m.observed.length}`,
+            c ? fixed(Math.hypot(...c), 3) : '-', c ? c.map((v) => fixed(v, 3)).join(' ') : '-',
+            m.T_lidar_marker ? fixed(1000 * m.marker_fit_rms_m, 2) : '-', m.in_map ? 'yes' : 'no',
+            fixed(m.decision_margin, 1)
+          ],
         };
       })));
   if (!frame.markers.length) parts.push(element('p', {}, ['No marker found.']));
@@ -205,20 +213,24 @@ function frameTables(frame) {
   parts.push(element('h2', {}, ['LiDAR pose in the world']));
   if (frame.pose) {
     const p = frame.pose;
-    parts.push(table('pose', ['x y z (m)', 'roll pitch yaw (deg)', 'rms (mm)', 'markers used'],
-                     [{cells: [p.xyz.map((v) => fixed(v, 4)).join(' '),
-                               p.rpy_deg.map((v) => fixed(v, 3)).join(' '),
-                               fixed(1000 * p.rms_m, 2), p.markers_used.join(', ')]}]));
+    parts.push(table(
+        'pose', ['x y z (m)', 'roll pitch yaw (deg)', 'rms (mm)', 'markers used'], [{
+          cells: [
+            p.xyz.map((v) => fixed(v, 4)).join(' '), p.rpy_deg.map((v) => fixed(v, 3)).join(' '),
+            fixed(1000 * p.rms_m, 2), p.markers_used.join(', ')
+          ]
+        }]));
   } else {
     parts.push(element('p', {id: 'pose'}, [`No pose: ${frame.pose_missing_reason || 'no map'}.`]));
   }
 
   parts.push(element('h2', {}, ['Timing']));
   const order = ['read', 'project', 'preprocess', 'detect', 'lift', 'pose', 'total'];
-  const stages = Object.entries(frame.timing_ms)
-                     .sort(([a], [b]) => (order.indexOf(a) + 99) % 99 - (order.indexOf(b) + 99) % 99);
-  parts.push(table('timing', stages.map(([k]) => k),
-                   [{cells: stages.map(([, v]) => `${fixed(v, 2)} ms`)}]));
+  const stages =
+      Object.entries(frame.timing_ms)
+          .sort(([a], [b]) => (order.indexOf(a) + 99) % 99 - (order.indexOf(b) + 99) % 99);
+  parts.push(table(
+      'timing', stages.map(([k]) => k), [{cells: stages.map(([, v]) => `${fixed(v, 2)} ms`)}]));
   return parts;
 }
 
@@ -249,8 +261,11 @@ function main() {
   }
   report.append(...frameTables(frame));
   report.append(element('h2', {}, ['Intensity image with detections']));
-  report.append(element('img', {id: 'overlay', src: frame.overlay_image,
-                                alt: 'preprocessed intensity image with the detections'}));
+  report.append(element('img', {
+    id: 'overlay',
+    src: frame.overlay_image,
+    alt: 'preprocessed intensity image with the detections'
+  }));
   window.iilfmReport = {ready: true, markers: frame.markers.map((m) => m.id)};
 }
 
