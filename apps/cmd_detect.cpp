@@ -15,6 +15,7 @@
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/report_html.hpp"
+#include "iilfm/resolution.hpp"
 #include "iilfm/sensor.hpp"
 
 namespace iilfm::cli {
@@ -32,6 +33,8 @@ struct DetectArgs {
   std::string threshold;
   std::string lift = "plane";
   std::string collision = "mean";
+  std::string rows;
+  bool no_square_pixels = false;
   double blur = 0;
   bool gray_input = false;
   float decimate = 1;
@@ -101,7 +104,9 @@ ArucoRefine aruco_refine(const std::string& name) {
                    "'");
 }
 
-PipelineOptions pipeline_options(const DetectArgs& args) {
+// Without a preset or both resolutions, they come from the cloud (`estimated` says so).
+PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud,
+                                 std::optional<ResolutionEstimate>& estimated) {
   PipelineOptions options;
   std::optional<double> threshold;
   if (!args.sensor.empty()) {
@@ -109,9 +114,14 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
     apply_sensor_preset(preset, options);
     threshold = preset.threshold;
   } else if (args.res_h <= 0 || args.res_v <= 0) {
-    throw InputError(
-        "give --sensor PRESET or both --res-h and --res-v (degrees); `iilfm sensors` "
-        "lists the presets");
+    try {
+      estimated = estimate_resolution(cloud);
+    } catch (const InputError& e) {
+      throw file_error(args.input, e.what());
+    }
+    options.projection.res_h_deg = estimated->res_h_deg;
+    options.projection.res_v_deg = estimated->res_v_deg;
+    options.projection.rows = estimated->rows;
   }
   if (args.res_h > 0) options.projection.res_h_deg = args.res_h;
   if (args.res_v > 0) options.projection.res_v_deg = args.res_v;
@@ -128,6 +138,14 @@ PipelineOptions pipeline_options(const DetectArgs& args) {
   options.preprocess.threshold = threshold;
   options.preprocess.binarize = !args.gray_input;
   options.preprocess.blur_sigma = args.blur;
+
+  if (args.rows == "uniform")
+    options.projection.rows = RowLayout::kUniform;
+  else if (args.rows == "rings")
+    options.projection.rows = RowLayout::kRings;
+  else if (!args.rows.empty())
+    throw InputError("--rows must be 'uniform' or 'rings', got '" + args.rows + "'");
+  options.preprocess.square_pixels = !args.no_square_pixels;
 
   if (args.collision == "nearest")
     options.projection.collision = CollisionPolicy::kNearest;
@@ -188,15 +206,13 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
 }
 
 int run_detect(const DetectArgs& args) {
-  PipelineOptions options = pipeline_options(args);
   if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
-  Pipeline pipeline(std::move(options));
-
   const auto start = std::chrono::steady_clock::now();
   io::LoadedCloud loaded = load_input(args);
   InputInfo info{
       args.input, loaded.stats,
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+      ""};
   if (loaded.cloud.empty()) {
     throw file_error(args.input, "no valid points (" + std::to_string(loaded.stats.non_finite) +
                                      " non-finite, " + std::to_string(loaded.stats.zero) +
@@ -204,6 +220,17 @@ int run_detect(const DetectArgs& args) {
                                      ")");
   }
 
+  std::optional<ResolutionEstimate> estimated;
+  Pipeline pipeline(pipeline_options(args, loaded.cloud, estimated));
+  if (estimated && !args.quiet) {
+    std::cout << "resolution estimated from the cloud (" << estimated->method
+              << "): " << estimated->res_h_deg << " x " << estimated->res_v_deg << " deg";
+    if (estimated->rings > 0) std::cout << ", " << estimated->rings << " rings";
+    std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
+  }
+  info.resolution_source = estimated              ? "estimated (" + estimated->method + ")"
+                           : !args.sensor.empty() ? "preset " + args.sensor
+                                                  : "given";
   const FrameResult& result = pipeline.process(loaded.cloud);
   if (!args.json_path.empty()) {
     const std::string text = result_to_json(result, info).dump(2) + "\n";
@@ -248,6 +275,10 @@ Runner register_detect_command(CLI::App& app) {
                   "Naive threshold in intensity units, or 'otsu' (default: the preset's)");
   cmd->add_option("--lift", args->lift, "3-D corners: plane (marker-plane fit, default) or paper");
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
+  cmd->add_option("--rows", args->rows,
+                  "Image rows: rings (one per laser; spinning presets) or uniform (res-v apart)");
+  cmd->add_flag("--no-square-pixels", args->no_square_pixels,
+                "Give detectors the projected rows as they are (the paper's image)");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");
   cmd->add_flag("--gray", args->gray_input, "Give detectors the gray image, not the binary one");
   cmd->add_option("--decimate", args->decimate, "AprilTag quad decimation (default 1)")

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "eval_range.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/eval/report.hpp"
 #include "iilfm/eval/suite.hpp"
@@ -20,6 +21,9 @@ struct EvalArgs {
   std::uint64_t first_seed = 1;
   bool markdown = false, footprint = false, quiet = false;
   double dark_dropout = 0, invalid_fraction = 0;
+  std::vector<std::string> range_sensors;
+  std::vector<double> range_sizes;
+  bool seeds_given = false;
 };
 
 void require(bool ok, const std::string& message) {
@@ -34,6 +38,14 @@ std::vector<LiftMethod> lifts_of(const std::string& name) {
 }
 
 int run_eval(const EvalArgs& a) {
+  if (a.suite == "range") {
+    RangeStudyArgs range;
+    if (!a.range_sensors.empty()) range.sensors = a.range_sensors;
+    if (!a.range_sizes.empty()) range.sizes = a.range_sizes;
+    range.seeds = a.seeds_given ? a.seeds : 10;
+    range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
+    return run_range_study(range);
+  }
   const std::vector<eval::SuiteSetup> setups = eval::named_suite(a.suite);
   eval::SuiteOptions options;
   options.lifts = lifts_of(a.lift);
@@ -78,9 +90,14 @@ Runner register_eval_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "eval", "Score detection and pose on simulated scans of the paper's experiments");
   sub->add_option("--suite", a.suite,
-                  "paper (Tables 1-3 of the paper) or quick (one set-up of each table)")
+                  "paper (Tables 1-3 of the paper), quick (one set-up of each table) or range "
+                  "(detection range per sensor and marker size, docs/sensors.md)")
       ->capture_default_str();
-  sub->add_option("--seeds", a.seeds, "Seeds per set-up")->capture_default_str();
+  sub->add_option("--seeds", a.seeds, "Seeds per set-up (range: 10)")
+      ->capture_default_str()
+      ->each([&a](const std::string&) { a.seeds_given = true; });
+  sub->add_option("--sensors", a.range_sensors, "range: simulated sensors (default: all)");
+  sub->add_option("--sizes", a.range_sizes, "range: marker sizes in metres (0.172 0.4 1)");
   sub->add_option("--first-seed", a.first_seed, "First seed (seeds run consecutively)")
       ->capture_default_str();
   sub->add_option("--lift", a.lift, "Corner lifting: plane, paper or both (same scans)")

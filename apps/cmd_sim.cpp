@@ -210,14 +210,16 @@ Runner register_sim_command(CLI::App& app) {
       ->capture_default_str();
   a.min_range_opt = sub->add_option("--min-range", a.min_range,
                                     "Minimum range in metres (default: the sensor's)");
-  a.family_opt = sub->add_option("--family", a.family,
-                                 "Marker family, e.g. apriltag:tag36h11 (default: the scene's)");
+  a.family_opt =
+      sub->add_option("--family", a.family,
+                      "Marker family, e.g. apriltag:tag36h11 or aruco:DICT_4X4_50 (default: "
+                      "the scene's)");
   a.id_opt = sub->add_option("--id", a.id, "Marker id (grid: id of the top-left marker)");
   a.size_opt = sub->add_option("--marker-size", a.marker_size,
                                "Edge of the outer black square in metres (tag-wall: 0.172)");
   a.distance_opt = sub->add_option("--distance", a.distance,
-                                   "LiDAR to wall in metres (tag-wall 2, grid 3.5; ccw10m: to "
-                                   "the marker, 10)");
+                                   "LiDAR to wall in metres (tag-wall 2, grid 3.5, paper-grid 4; "
+                                   "ccw10m: to the marker, 10)");
   sub->add_option("--lidar-xyz", a.lidar_xyz, "LiDAR position in the world (overrides --distance)")
       ->expected(3);
   sub->add_option("--lidar-rpy", a.lidar_rpy, "LiDAR roll pitch yaw in degrees (extrinsic x-y-z)")

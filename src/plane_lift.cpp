@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "iilfm/lift.hpp"
+#include "iilfm/square_pixels.hpp"
 
 namespace iilfm {
 
@@ -40,14 +41,33 @@ std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point or
   return out;
 }
 
-// Points of the observed pixels inside `polygon_px` but not inside `excluded_px` (may be empty).
-std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                                const PointView& cloud, const std::vector<Vec2>& excluded_px = {}) {
+// Polygons are drawn in a frame uniform in angle, so a marker keeps its shape and a surround
+// scaled about it covers the same angles on every side, also when image rows follow rings.
+struct PolygonFrame {
+  ImageGeometry uniform;     // uniform rows, the image's columns
+  std::vector<double> v_of;  // uniform row coordinate of each image row
+};
+
+PolygonFrame polygon_frame(const ImageGeometry& g) {
+  PolygonFrame frame;
+  frame.uniform = g.ring_rows() ? square_pixel_geometry(g) : g;
+  frame.v_of.resize(static_cast<std::size_t>(std::max(g.height, 0)));
+  for (int r = 0; r < g.height; ++r)
+    frame.v_of[static_cast<std::size_t>(r)] =
+        g.ring_rows() ? frame.uniform.v_of_elevation(g.elevation_of_v(r)) : r;
+  return frame;
+}
+
+// Points of the observed pixels inside `polygon` but not inside `excluded` (may be empty); both
+// in the frame's uniform coordinates.
+std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon, const ProjectedImage& image,
+                                const PointView& cloud, const PolygonFrame& frame,
+                                const std::vector<Vec2>& excluded = {}) {
   std::vector<Vec3> points;
-  if (polygon_px.size() < 3) return points;
+  if (polygon.size() < 3) return points;
   const ImageGeometry& g = image.geometry;
   double min_u = 1e18, max_u = -1e18, min_v = 1e18, max_v = -1e18;
-  for (const Vec2& p : polygon_px) {
+  for (const Vec2& p : polygon) {
     if (!p.allFinite()) return points;
     min_u = std::min(min_u, p.x());
     max_u = std::max(max_u, p.x());
@@ -56,17 +76,18 @@ std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon_px, const Proje
   }
   const int c0 = std::max(0, static_cast<int>(std::floor(min_u)));
   const int c1 = std::min(g.width - 1, static_cast<int>(std::ceil(max_u)));
-  const int r0 = std::max(0, static_cast<int>(std::floor(min_v)));
-  const int r1 = std::min(g.height - 1, static_cast<int>(std::ceil(max_v)));
-  if (c0 > c1 || r0 > r1) return points;
+  const int v0 = static_cast<int>(std::floor(min_v)), v1 = static_cast<int>(std::ceil(max_v));
+  if (c0 > c1 || v0 > v1) return points;
 
   // Rasterise the polygon into a mask over its bounding box.
-  cv::Mat inside(r1 - r0 + 1, c1 - c0 + 1, CV_8U, cv::Scalar(0));
-  cv::fillConvexPoly(inside, rounded(polygon_px, cv::Point(c0, r0)), cv::Scalar(255));
-  if (excluded_px.size() >= 3)
-    cv::fillConvexPoly(inside, rounded(excluded_px, cv::Point(c0, r0)), cv::Scalar(0));
-  for (int r = r0; r <= r1; ++r) {
-    const std::uint8_t* in = inside.ptr<std::uint8_t>(r - r0);
+  cv::Mat inside(v1 - v0 + 1, c1 - c0 + 1, CV_8U, cv::Scalar(0));
+  cv::fillConvexPoly(inside, rounded(polygon, cv::Point(c0, v0)), cv::Scalar(255));
+  if (excluded.size() >= 3)
+    cv::fillConvexPoly(inside, rounded(excluded, cv::Point(c0, v0)), cv::Scalar(0));
+  for (int r = 0; r < g.height; ++r) {
+    const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
+    if (v < v0 || v > v1) continue;
+    const std::uint8_t* in = inside.ptr<std::uint8_t>(v - v0);
     for (int c = c0; c <= c1; ++c) {
       if (!in[c - c0] || !image.observed(c, r)) continue;
       if (image.count.at<std::int32_t>(r, c) == 1) {
@@ -119,7 +140,10 @@ std::vector<Vec2> scaled_about_centre(const std::vector<Vec2>& polygon, double s
 
 Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
                        const PointView& cloud, const PlaneFitOptions& options) {
-  std::vector<Vec3> marker_points = points_inside(polygon_px, image, cloud);
+  const PolygonFrame frame = polygon_frame(image.geometry);
+  std::vector<Vec2> polygon;
+  for (const Vec2& px : polygon_px) polygon.push_back(map_pixel(px, image.geometry, frame.uniform));
+  std::vector<Vec3> marker_points = points_inside(polygon, image, cloud, frame);
   if (marker_points.size() < options.min_points) return Plane{};
   double band = 0;
   Plane plane = robust_plane(marker_points, options, &band);
@@ -129,7 +153,7 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   // its points pin the normal down far better (more points, longer lever). Largest ring first.
   for (double scale : options.surround_scales) {
     std::vector<Vec3> ring =
-        points_inside(scaled_about_centre(polygon_px, scale), image, cloud, polygon_px);
+        points_inside(scaled_about_centre(polygon, scale), image, cloud, frame, polygon);
     if (ring.size() < marker_points.size() / 2) continue;
     std::size_t coplanar = 0;
     for (const Vec3& p : ring) coplanar += std::abs(plane.normal.dot(p) - plane.d) <= band;

@@ -6,6 +6,8 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "iilfm/square_pixels.hpp"
+
 namespace iilfm {
 
 namespace {
@@ -101,6 +103,16 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     filled_mask = image.mask;
   }
 
+  if (options.square_pixels && needs_square_pixels(image.geometry)) {
+    out.geometry = square_pixel_geometry(image.geometry);
+    cv::Mat square, square_mask;
+    resample_rows(filled, filled_mask, image.geometry, out.geometry, square, square_mask);
+    filled = square;
+    filled_mask = square_mask;
+  } else {
+    out.geometry = image.geometry;
+  }
+
   filled_mask.copyTo(out.valid);
   out.intensity_scale = robust_max(image.intensity, image.mask);
   filled.convertTo(out.gray, CV_8U, 255.0 / out.intensity_scale);
@@ -110,7 +122,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                                     : otsu_threshold(out.gray, filled_mask, out.intensity_scale);
   if (options.binarize) {
     cv::Mat above = filled > out.threshold;  // 255 where brighter than the threshold
-    out.detect.create(image.intensity.size(), CV_8U);
+    out.detect.create(filled.size(), CV_8U);
     out.detect.setTo(0);
     out.detect.setTo(255, above & filled_mask);
     out.detect.setTo(options.unobserved_value, filled_mask == 0);

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
 #include "fast_math.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/ring_structure.hpp"
 
 namespace iilfm {
 
@@ -16,6 +18,25 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 Vec2 ImageGeometry::pixel_of_point(const Vec3& p) const {
   return pixel_of_angles(std::atan2(p.y(), p.x()), std::atan2(p.z(), std::hypot(p.x(), p.y())));
+}
+
+double ImageGeometry::table_elevation_of_v(double v) const {
+  const std::vector<double>& e = row_elevation;
+  if (e.size() == 1) return e[0] - v * res_v;
+  const double i = std::clamp(std::floor(v), 0.0, static_cast<double>(e.size() - 2));
+  const std::size_t k = static_cast<std::size_t>(i);
+  return e[k] + (v - i) * (e[k + 1] - e[k]);
+}
+
+double ImageGeometry::table_v_of_elevation(double elevation) const {
+  const std::vector<double>& e = row_elevation;
+  if (e.size() == 1) return (e[0] - elevation) / res_v;
+  // First row whose elevation is below `elevation` (the table decreases), then the segment above
+  // it.
+  const auto below = std::upper_bound(e.begin(), e.end(), elevation, std::greater<double>());
+  const std::size_t k =
+      std::clamp<std::size_t>(static_cast<std::size_t>(below - e.begin()), 1, e.size() - 1) - 1;
+  return static_cast<double>(k) + (elevation - e[k]) / (e[k + 1] - e[k]);
 }
 
 Vec3 ImageGeometry::ray(double u, double v) const {
@@ -106,7 +127,22 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     bounds = *options_.field_of_view;
   }
   const double res_h = options_.res_h_deg * kDegToRad, res_v = options_.res_v_deg * kDegToRad;
-  const ImageGeometry g = geometry_for_bounds(bounds, res_h, res_v);
+  ImageGeometry g = geometry_for_bounds(bounds, res_h, res_v);
+
+  // Ring rows: one row per laser, found from the ring field or the elevation clusters.
+  std::optional<RingStructure> rings;
+  if (options_.rows == RowLayout::kRings && n > 0) {
+    rings = rings_from_field(cloud, elevation_.data());
+    if (!rings) rings = rings_from_elevations(elevation_.data(), n);
+  }
+  out.row_source = rings ? rings->source : "uniform";
+  if (rings) {
+    g.height = static_cast<int>(rings->rows());
+    g.row_elevation = rings->elevation;
+    g.res_v = rings->rows() > 1 ? rings->mean_spacing() : res_v;
+    g.v0 = 0;
+  }
+
   const double pixels = static_cast<double>(g.width) * g.height;
   if (pixels > static_cast<double>(options_.max_pixels)) {
     throw InputError("intensity image would be " + std::to_string(g.width) + "x" +
@@ -115,7 +151,6 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
                      "; check --res-h/--res-v (degrees) or the sensor preset");
   }
 
-  out.geometry = g;
   const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
   pixels_.assign(total, PixelAccumulator{0.f, 0.f, std::numeric_limits<float>::max(), -1, 0});
 
@@ -126,16 +161,8 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   const float u_end = static_cast<float>(g.width) - 0.5f,
               v_end = static_cast<float>(g.height) - 0.5f;
   std::size_t projected = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (range_[i] <= 0) continue;
-    const float u = u0 - azimuth_[i] * inv_res_h, v = v0 - elevation_[i] * inv_res_v;
-    if (!(u >= -0.5f && v >= -0.5f && u < u_end && v < v_end)) continue;
-    // Both are >= -0.5 here, so truncation of x + 0.5 rounds to nearest without a libm call.
-    const int col = static_cast<int>(u + 0.5f), row = static_cast<int>(v + 0.5f);
-    if (col >= g.width || row >= g.height) continue;
+  auto accumulate = [&](std::size_t i, int col, int row, float offset) {
     PixelAccumulator& px = pixels_[static_cast<std::size_t>(row) * g.width + col];
-    const float du = static_cast<float>(u - col), dv = static_cast<float>(v - row);
-    const float offset = du * du + dv * dv;
     if (!nearest) {
       px.range_sum += range_[i];
       px.intensity_sum += cloud.intensity[i];
@@ -149,14 +176,49 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     }
     ++px.count;
     ++projected;
+  };
+  if (!rings) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (range_[i] <= 0) continue;
+      const float u = u0 - azimuth_[i] * inv_res_h, v = v0 - elevation_[i] * inv_res_v;
+      if (!(u >= -0.5f && v >= -0.5f && u < u_end && v < v_end)) continue;
+      // Both are >= -0.5 here, so truncation of x + 0.5 rounds to nearest without a libm call.
+      const int col = static_cast<int>(u + 0.5f), row = static_cast<int>(v + 0.5f);
+      if (col >= g.width || row >= g.height) continue;
+      const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
+      accumulate(i, col, row, du * du + dv * dv);
+    }
+  } else {
+    // A ring is one row, so only the column offset decides which point represents the pixel.
+    const bool by_field = !rings->row_of_ring.empty();
+    const RingRowLookup lookup(by_field ? RingStructure{} : *rings);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (range_[i] <= 0) continue;
+      const float u = u0 - azimuth_[i] * inv_res_h;
+      if (!(u >= -0.5f && u < u_end)) continue;
+      const int col = static_cast<int>(u + 0.5f);
+      if (col >= g.width) continue;
+      int row;
+      if (by_field) {
+        const std::uint16_t ring = cloud.ring[i];
+        row = ring < rings->row_of_ring.size() ? rings->row_of_ring[ring] : -1;
+        if (row < 0) continue;
+      } else {
+        row = lookup.row(elevation_[i]);
+      }
+      const float du = u - static_cast<float>(col);
+      accumulate(i, col, row, du * du);
+    }
   }
+  out.geometry = std::move(g);
+  const ImageGeometry& geo = out.geometry;
 
   // Pass 3: the images, written sequentially.
-  out.intensity.create(g.height, g.width, CV_32F);
-  out.range.create(g.height, g.width, CV_32F);
-  out.mask.create(g.height, g.width, CV_8U);
-  out.index.create(g.height, g.width, CV_32S);
-  out.count.create(g.height, g.width, CV_32S);
+  out.intensity.create(geo.height, geo.width, CV_32F);
+  out.range.create(geo.height, geo.width, CV_32F);
+  out.mask.create(geo.height, geo.width, CV_8U);
+  out.index.create(geo.height, geo.width, CV_32S);
+  out.count.create(geo.height, geo.width, CV_32S);
   float* intensity = out.intensity.ptr<float>();
   float* range = out.range.ptr<float>();
   std::uint8_t* mask = out.mask.ptr<std::uint8_t>();

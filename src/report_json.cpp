@@ -70,8 +70,13 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
                   {"height", g.height},
                   {"res_h_deg", round_to(g.res_h * 180 / M_PI, 1e-9)},
                   {"res_v_deg", round_to(g.res_v * 180 / M_PI, 1e-9)},
+                  {"rows", result.image.row_source},
                   {"observed_pixels", cv::countNonZero(result.image.mask)},
                   {"threshold", round_to(result.preprocessed.threshold, 1e-3)}};
+  if (!input.resolution_source.empty()) out["image"]["resolution"] = input.resolution_source;
+  if (result.preprocessed.geometry.height != g.height) {
+    out["image"]["detector_height"] = result.preprocessed.geometry.height;  // square pixels
+  }
   json markers = json::array();
   for (const MarkerResult& m : result.markers) markers.push_back(marker_json(m));
   out["markers"] = markers;

@@ -4,13 +4,16 @@
 #include <string>
 
 #include "iilfm/report.hpp"
+#include "iilfm/square_pixels.hpp"
 
 namespace iilfm {
 
 cv::Mat draw_overlay(const FrameResult& result) {
   const cv::Mat& gray = result.preprocessed.gray;
   if (gray.empty()) return cv::Mat(1, 1, CV_8UC3, cv::Scalar(0, 0, 0));
-  const ImageGeometry& g = result.image.geometry;
+  // Drawn on the detector's image; corners are in the projected image's coordinates.
+  const ImageGeometry& g = result.preprocessed.geometry;
+  const ImageGeometry& projected = result.image.geometry;
 
   // Square pixels in angle, and at least ~1200 px wide (capped so huge images stay small files).
   const double aspect = g.res_v / g.res_h;
@@ -28,7 +31,8 @@ cv::Mat draw_overlay(const FrameResult& result) {
   cv::resize(color, canvas, cv::Size(), sx, sy, cv::INTER_NEAREST);
 
   // Continuous image coordinates (centres at integers) to canvas coordinates.
-  auto to_canvas = [&](const Vec2& px) {
+  auto to_canvas = [&](const Vec2& image_px) {
+    const Vec2 px = map_pixel(image_px, projected, g);
     return cv::Point2d((px.x() + 0.5) * sx - 0.5, (px.y() + 0.5) * sy - 0.5);
   };
   const cv::Scalar corner_colors[4] = {{0, 0, 255}, {0, 200, 0}, {255, 80, 0}, {0, 220, 255}};

@@ -66,6 +66,7 @@ std::string to_json(const SuiteResult& suite) {
                        {"lift", lift_name(r.lift)},
                        {"summary", summary_json(r.summary)},
                        {"cases", cases}});
+    if (!r.setup.published.empty()) results.back()["published"] = r.setup.published;
   }
   const SuiteOptions& o = suite.options;
   json out = {{"suite", suite.suite},

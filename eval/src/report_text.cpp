@@ -70,10 +70,12 @@ std::string to_markdown(const SuiteResult& suite) {
   out << "Suite `" << suite.suite << "`: seeds " << seeds_text(o.seeds) << ", " << physics_text(o)
       << "; " << cases << " pipeline runs in " << format("%.0f s", suite.seconds)
       << ". Figures: mean over seeds (worst).\n";
-  std::string group;
+  std::string group, published;
   for (const SetupResult& r : suite.results) {
     if (r.setup.group != group) {
+      if (!published.empty()) out << "\n" << published << "\n";
       group = r.setup.group;
+      published = r.setup.published;
       out << "\n**" << group << "**\n\n"
           << "| set-up | lift | found | false pos. / wrong id | vertex error mm | marker position "
              "mm | marker rotation deg | LiDAR position mm | LiDAR rotation deg |\n"
@@ -85,6 +87,7 @@ std::string to_markdown(const SuiteResult& suite) {
         << mm(s.marker_position) << " | " << deg(s.marker_rotation_deg) << " | " << mm(s.position)
         << " | " << deg(s.rotation_deg) << " |\n";
   }
+  if (!published.empty()) out << "\n" << published << "\n";
   return out.str();
 }
 

@@ -84,6 +84,7 @@ std::vector<std::string> known_families();
 struct FamilyLayout {
   int border_width = 0;
   int total_width = 0;
+  int min_distance = 0;  // smallest Hamming distance between two codes (0 = unknown)
 };
 FamilyLayout family_layout(const std::string& family);
 

@@ -36,6 +36,9 @@ struct PipelineOptions {
   // When a marker's size is known (map or marker_size), report the square of that size fitted to
   // its four lifted corners instead of the corners themselves.
   bool fit_known_size = true;
+  // Drop detections whose black square spans fewer projected rows or columns than this many per
+  // cell: they were decoded from resampled or filled pixels (0 = keep all).
+  double min_samples_per_cell = 1.0;
 };
 
 struct MarkerResult {

@@ -19,11 +19,17 @@ struct PreprocessOptions {
   // Filling passes; each pass may use the values the previous one filled in, so sparse images
   // (a Livox after few frames) close up without widening the holes' surroundings much.
   int fill_passes = 2;
+  // Resample coarse or ring rows so the detector sees square pixels
+  // (include/iilfm/square_pixels.hpp).
+  bool square_pixels = true;
   double blur_sigma = 0;     // Gaussian blur (pixels) after thresholding; 0 = off
   int unobserved_value = 0;  // gray value of pixels still unobserved after filling
 };
 
+// The detector's images. They share the projected image's geometry, or, with square pixels, have
+// their own: detections are in `geometry`'s coordinates (map_pixel converts them).
 struct PreprocessedImage {
+  ImageGeometry geometry;
   cv::Mat gray;                // CV_8U intensity scaled to 0..255 (for display), holes filled
   cv::Mat detect;              // CV_8U image handed to the detectors (binary unless binarize=false)
   cv::Mat valid;               // CV_8U 255 where observed or filled, 0 where still unobserved

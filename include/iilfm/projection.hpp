@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "iilfm/types.hpp"
@@ -17,22 +18,36 @@
 namespace iilfm {
 
 // The mapping between directions and continuous image coordinates, and its exact inverse.
+// Columns are uniform in azimuth. Rows are uniform in elevation, or, for a spinning LiDAR projected
+// ring by ring, follow a table of ring elevations (piecewise linear between row centres, so the
+// mapping stays continuous, monotone and exactly invertible).
 struct ImageGeometry {
   int width = 0, height = 0;
-  double res_h = 0, res_v = 0;  // radians per pixel
-  double u0 = 0, v0 = 0;        // image coordinates of azimuth 0 / elevation 0
+  double res_h = 0, res_v = 0;        // radians per pixel (res_v: mean row spacing for ring rows)
+  double u0 = 0, v0 = 0;              // image coordinates of azimuth 0 / elevation 0 (uniform rows)
+  std::vector<double> row_elevation;  // ring rows: each row's elevation, strictly decreasing
 
+  bool ring_rows() const { return !row_elevation.empty(); }
   Vec2 pixel_of_angles(double azimuth, double elevation) const {
-    return Vec2(u0 - azimuth / res_h, v0 - elevation / res_v);
+    return Vec2(u0 - azimuth / res_h, v_of_elevation(elevation));
   }
   Vec2 pixel_of_point(const Vec3& p) const;
   double azimuth_of_u(double u) const { return (u0 - u) * res_h; }
-  double elevation_of_v(double v) const { return (v0 - v) * res_v; }
+  double elevation_of_v(double v) const {
+    return row_elevation.empty() ? (v0 - v) * res_v : table_elevation_of_v(v);
+  }
+  double v_of_elevation(double elevation) const {
+    return row_elevation.empty() ? v0 - elevation / res_v : table_v_of_elevation(elevation);
+  }
   Vec3 ray(double u, double v) const;  // unit direction through continuous image coordinates
   Vec3 ray(const Vec2& uv) const { return ray(uv.x(), uv.y()); }
   bool contains_pixel(int col, int row) const {
     return col >= 0 && row >= 0 && col < width && row < height;
   }
+
+ private:
+  double table_elevation_of_v(double v) const;
+  double table_v_of_elevation(double elevation) const;
 };
 
 // An angular window in radians (azimuth grows to the left, elevation up).
@@ -47,9 +62,18 @@ enum class CollisionPolicy {
   kNearest,  // range and intensity of the nearest point (a z-buffer; biased towards the sensor)
 };
 
+// How image rows are laid out.
+enum class RowLayout {
+  kUniform,  // rows res_v apart in elevation (the paper's projection; any LiDAR)
+  // One row per ring of a spinning LiDAR, from the ring field or the elevation clusters; falls
+  // back to uniform rows when the cloud shows no ring structure.
+  kRings,
+};
+
 struct ProjectionOptions {
   double res_h_deg = 0.05;
-  double res_v_deg = 0.05;
+  double res_v_deg = 0.05;  // uniform rows only
+  RowLayout rows = RowLayout::kUniform;
   // When set and the cloud lies inside it, the image covers this window, so every frame of a
   // sensor has the same image size; otherwise the cloud's own angular extent is used.
   std::optional<AngularBounds> field_of_view;
@@ -65,6 +89,7 @@ struct ProjectedImage {
   cv::Mat index;      // CV_32S index of the point nearest to the pixel centre; -1 where unobserved
   cv::Mat count;      // CV_32S number of points in the pixel
   std::size_t points_projected = 0;
+  std::string row_source = "uniform";  // "uniform", "ring field" or "elevation clusters"
 
   bool observed(int col, int row) const { return mask.at<std::uint8_t>(row, col) != 0; }
 };

@@ -14,6 +14,7 @@ struct InputInfo {
   std::string path;
   CloudStats stats;
   double read_ms = 0;
+  std::string resolution_source;  // e.g. "preset mid40", "given", "estimated (ring field)"
 };
 
 nlohmann::json result_to_json(const FrameResult& result, const InputInfo& input);

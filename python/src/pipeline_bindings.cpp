@@ -208,7 +208,9 @@ py::object json_of(const Result& r) {
 
 class PyPipeline {
  public:
-  explicit PyPipeline(const Options& o) : pipeline_(pipeline_options(o)) {}
+  explicit PyPipeline(const Options& o)
+      : pipeline_(pipeline_options(o)),
+        resolution_source_(o.sensor ? "preset " + *o.sensor : "given") {}
 
   Result detect(const py::handle& points) {
     std::unique_ptr<PointsInput> in = points_from_python(points);
@@ -218,7 +220,7 @@ class PyPipeline {
       r.frame = detached(pipeline_.process(in->view));
     }
     last_x_address_ = reinterpret_cast<std::uintptr_t>(in->view.x.data);
-    r.input = InputInfo{in->path.empty() ? "<array>" : in->path, in->stats, 0};
+    r.input = InputInfo{in->path.empty() ? "<array>" : in->path, in->stats, 0, resolution_source_};
     r.copied = in->copied;
     r.original_row = in->original_row;
     r.points = std::move(in);
@@ -232,6 +234,7 @@ class PyPipeline {
  private:
   Pipeline pipeline_;
   std::uintptr_t last_x_address_ = 0;
+  std::string resolution_source_;  // as the CLI's JSON names it
 };
 
 py::array index_image(const py::object& self) {

@@ -26,7 +26,6 @@ def test_missing_and_malformed_files(tmp_path):
 def test_bad_options_match_the_cli(scan, tmp_path):
     cases = [
         (dict(sensor="nope"), ["--sensor", "nope"]),
-        (dict(), []),
         (dict(sensor="mid40", markers=["apriltag:tag99"]), ["--sensor", "mid40", "--marker",
                                                             "apriltag:tag99"]),
         (dict(sensor="mid40", threshold="high"), ["--sensor", "mid40", "--threshold", "high"]),

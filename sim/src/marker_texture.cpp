@@ -1,19 +1,58 @@
-// AprilTag images straight from libapriltag, so the simulated print is exactly what the family's
-// own generator prints and what the detector expects.
+// Marker images straight from each family's own generator (libapriltag's apriltag_to_image,
+// OpenCV's drawMarker), so the simulated print is exactly what the detector expects.
 #include "iilfm/sim/marker_texture.hpp"
 
+#include <opencv2/aruco.hpp>
+#include <opencv2/core.hpp>
+
 #include "iilfm/apriltag_families.hpp"
+#include "iilfm/aruco_dictionaries.hpp"
 #include "iilfm/error.hpp"
 
 namespace iilfm::sim {
 namespace {
 
-constexpr const char* kPrefix = "apriltag:";
+constexpr const char* kAprilTagPrefix = "apriltag:";
+constexpr const char* kArucoPrefix = "aruco:";
 
-std::string known_families() {
+bool has_prefix(const std::string& text, const std::string& prefix) {
+  return text.compare(0, prefix.size(), prefix) == 0;
+}
+
+[[noreturn]] void unknown_family(const std::string& family) {
   std::string known;
-  for (const std::string& n : apriltag_family_names()) known += (known.empty() ? "" : ", ") + n;
-  return known;
+  for (const std::string& n : marker_family_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("the simulator cannot print marker family '" + family + "' (known: " + known +
+                   ")");
+}
+
+MarkerTexture apriltag_texture(const std::string& name, int id) {
+  AprilTagImage image = render_apriltag(name, id);
+  MarkerTexture texture;
+  texture.total_width = image.total_width;
+  texture.width_at_border = image.width_at_border;
+  texture.pixels = std::move(image.pixels);
+  return texture;
+}
+
+// drawMarker at one pixel per cell: the data bits inside a one-cell black border; a one-cell white
+// margin around it stands for the paper the marker is printed on.
+MarkerTexture aruco_texture(const ArucoDictionaryEntry& entry, const std::string& family, int id) {
+  const cv::Ptr<cv::aruco::Dictionary> dictionary = cv::aruco::getPredefinedDictionary(entry.id);
+  if (id < 0 || id >= dictionary->bytesList.rows) {
+    throw InputError("marker id " + std::to_string(id) + " is outside " + family + " (0.." +
+                     std::to_string(dictionary->bytesList.rows - 1) + ")");
+  }
+  const int border = dictionary->markerSize + 2;
+  cv::Mat marker;
+  dictionary->drawMarker(id, border, marker, 1);
+  cv::Mat sheet;
+  cv::copyMakeBorder(marker, sheet, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
+  MarkerTexture texture;
+  texture.total_width = border + 2;
+  texture.width_at_border = border;
+  texture.pixels.assign(sheet.begin<std::uint8_t>(), sheet.end<std::uint8_t>());
+  return texture;
 }
 
 }  // namespace
@@ -21,24 +60,33 @@ std::string known_families() {
 std::vector<std::string> apriltag_family_names() {
   std::vector<std::string> names;
   for (const AprilTagFamilyEntry& entry : apriltag_families())
-    names.push_back(std::string(kPrefix) + entry.name);
+    names.push_back(std::string(kAprilTagPrefix) + entry.name);
+  return names;
+}
+
+std::vector<std::string> aruco_family_names() {
+  std::vector<std::string> names;
+  for (const ArucoDictionaryEntry& entry : aruco_dictionaries())
+    names.push_back(std::string(kArucoPrefix) + entry.name);
+  return names;
+}
+
+std::vector<std::string> marker_family_names() {
+  std::vector<std::string> names = apriltag_family_names();
+  for (const std::string& name : aruco_family_names()) names.push_back(name);
   return names;
 }
 
 MarkerTexture render_marker_texture(const std::string& family, int id) {
-  const std::string prefix = kPrefix;
-  const bool apriltag = family.compare(0, prefix.size(), prefix) == 0;
-  const std::string name = apriltag ? family.substr(prefix.size()) : family;
-  if (!apriltag || !find_apriltag_family(name)) {
-    throw InputError("the simulator cannot print marker family '" + family +
-                     "' (known: " + known_families() + ")");
+  if (has_prefix(family, kAprilTagPrefix)) {
+    const std::string name = family.substr(std::string(kAprilTagPrefix).size());
+    if (find_apriltag_family(name)) return apriltag_texture(name, id);
+  } else if (has_prefix(family, kArucoPrefix)) {
+    const ArucoDictionaryEntry* entry =
+        find_aruco_dictionary(family.substr(std::string(kArucoPrefix).size()));
+    if (entry) return aruco_texture(*entry, family, id);
   }
-  AprilTagImage image = render_apriltag(name, id);
-  MarkerTexture texture;
-  texture.total_width = image.total_width;
-  texture.width_at_border = image.width_at_border;
-  texture.pixels = std::move(image.pixels);
-  return texture;
+  unknown_family(family);
 }
 
 }  // namespace iilfm::sim

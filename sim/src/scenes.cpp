@@ -33,40 +33,83 @@ Isometry3 level_lidar_at(const Vec3& position) {
 SceneSetup tag_wall(const SceneParams& p) {
   const double distance = p.distance_m.value_or(2.0);
   check_distance(distance);
-  const MarkerSpec tag = wall_marker(p.family.value_or("apriltag:tag36h11"), p.id.value_or(0),
-                                     p.marker_size_m.value_or(0.172), kPaperWallX, 0, kPaperTagZ);
+  const double size = p.marker_size_m.value_or(0.172);
+  // The paper's height, raised for large markers so the printed sheet clears the floor.
+  const double centre_z = std::max(kPaperTagZ, 0.75 * size + 0.1);
+  const MarkerSpec tag = wall_marker(p.family.value_or("apriltag:tag36h11"), p.id.value_or(0), size,
+                                     kPaperWallX, 0, centre_z);
   SceneSetup setup;
   setup.scene = wall_scene({tag}, kPaperWallX);
-  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, kPaperTagZ));
+  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, centre_z));
   setup.sensor = "mid40";
   return setup;
 }
 
-// 7 x 5 markers, ids row by row from the top-left, one letter-size sheet each (a 17.2 cm
-// tag36h11 prints 21.5 cm wide), sheets 16 % wider than the print apart.
-SceneSetup grid(const SceneParams& p) {
-  constexpr int kColumns = 7, kRows = 5;
-  const double distance = p.distance_m.value_or(3.5);  // whole grid inside the Mid-40 cone
-  check_distance(distance);
-  const std::string family = p.family.value_or("apriltag:tag36h11");
-  const double size = p.marker_size_m.value_or(0.172);
-  const int first_id = p.id.value_or(0);
-  const MarkerTexture texture = render_marker_texture(family, first_id);
-  const double pitch = 1.16 * size * texture.total_width / texture.width_at_border;
-  // Centred high enough that the bottom row's sheets clear the floor at z = 0.
-  const double centre_z = std::max(kPaperTagZ, (kRows / 2.0) * pitch + 0.05);
+// The paper's tag grid: 7 x 5 letter-size sheets (a 17.2 cm tag36h11 prints 21.5 cm wide), sheets
+// 16 % wider than the print apart, ids row by row from the top-left as the viewer sees it.
+constexpr int kGridColumns = 7, kGridRows = 5;
+
+struct TagGrid {
   std::vector<MarkerSpec> markers;
-  for (int row = 0; row < kRows; ++row) {
-    for (int col = 0; col < kColumns; ++col) {
-      const double y = ((kColumns - 1) / 2.0 - col) * pitch;  // columns run to the viewer's right
-      const double z = centre_z + ((kRows - 1) / 2.0 - row) * pitch;
-      markers.push_back(
-          wall_marker(family, first_id + row * kColumns + col, size, kPaperWallX, y, z));
+  double pitch = 0;     // sheet to sheet, metres
+  double centre_z = 0;  // height of the grid's centre
+};
+
+TagGrid tag_grid(const std::string& family, int first_id, double size) {
+  const MarkerTexture texture = render_marker_texture(family, first_id);
+  render_marker_texture(family, first_id + kGridColumns * kGridRows - 1);  // every id exists
+  TagGrid grid;
+  grid.pitch = 1.16 * size * texture.total_width / texture.width_at_border;
+  // Centred high enough that the bottom row's sheets clear the floor at z = 0.
+  grid.centre_z = std::max(kPaperTagZ, (kGridRows / 2.0) * grid.pitch + 0.05);
+  for (int row = 0; row < kGridRows; ++row) {
+    for (int col = 0; col < kGridColumns; ++col) {
+      const double y = ((kGridColumns - 1) / 2.0 - col) * grid.pitch;  // to the viewer's right
+      const double z = grid.centre_z + ((kGridRows - 1) / 2.0 - row) * grid.pitch;
+      grid.markers.push_back(
+          wall_marker(family, first_id + row * kGridColumns + col, size, kPaperWallX, y, z));
     }
   }
+  return grid;
+}
+
+SceneSetup grid(const SceneParams& p) {
+  const double distance = p.distance_m.value_or(3.5);  // whole grid inside the Mid-40 cone
+  check_distance(distance);
+  const TagGrid tags = tag_grid(p.family.value_or("apriltag:tag36h11"), p.id.value_or(0),
+                                p.marker_size_m.value_or(0.172));
   SceneSetup setup;
-  setup.scene = wall_scene(markers, kPaperWallX);
-  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, centre_z));
+  setup.scene = wall_scene(tags.markers, kPaperWallX);
+  setup.T_world_lidar = level_lidar_at(Vec3(kPaperWallX - distance, 0, tags.centre_z));
+  setup.sensor = "mid40";
+  return setup;
+}
+
+// The paper's Fig. 1(a) and 8(a): the 35-tag grid and, on the same wall, a grid of four 16 cm 4x4
+// ArUco markers (the paper names neither the dictionary nor the layout: DICT_4X4_50 ids 0..3, two
+// by two on the tags' sheet pitch, to the viewer's right of the tags, level with the grid's middle,
+// with a quarter pitch more gap). The LiDAR faces the middle of the whole arrangement.
+SceneSetup paper_grid(const SceneParams& p) {
+  if (p.family || p.id || p.marker_size_m) {
+    throw InputError(
+        "scene 'paper-grid' prints the paper's markers; family, id and size are fixed");
+  }
+  const double distance = p.distance_m.value_or(4.0);  // both grids inside the Mid-40 cone
+  check_distance(distance);
+  TagGrid tags = tag_grid("apriltag:tag36h11", 0, 0.172);
+  const double first_aruco_y = -((kGridColumns - 1) / 2.0 + 1.25) * tags.pitch;
+  for (int row = 0; row < 2; ++row) {
+    for (int col = 0; col < 2; ++col) {
+      tags.markers.push_back(wall_marker("aruco:DICT_4X4_50", row * 2 + col, 0.16, kPaperWallX,
+                                         first_aruco_y - col * tags.pitch,
+                                         tags.centre_z + (0.5 - row) * tags.pitch));
+    }
+  }
+  const double left = (kGridColumns - 1) / 2.0 * tags.pitch, right = first_aruco_y - tags.pitch;
+  SceneSetup setup;
+  setup.scene = wall_scene(tags.markers, kPaperWallX);
+  setup.T_world_lidar =
+      level_lidar_at(Vec3(kPaperWallX - distance, (left + right) / 2, tags.centre_z));
   setup.sensor = "mid40";
   return setup;
 }
@@ -123,12 +166,13 @@ SceneSetup ccw10m(const SceneParams& p) {
 }  // namespace
 
 std::vector<std::string> named_scene_names() {
-  return {"tag-wall", "grid", "ccw10m", "room", "around"};
+  return {"tag-wall", "grid", "ccw10m", "room", "around", "paper-grid"};
 }
 
 SceneSetup named_scene(const std::string& name, const SceneParams& params) {
   if (name == "tag-wall") return tag_wall(params);
   if (name == "grid") return grid(params);
+  if (name == "paper-grid") return paper_grid(params);
   if (name == "ccw10m") return ccw10m(params);
   if (name == "room") return room_scene(params);
   if (name == "around") return around_scene(params);

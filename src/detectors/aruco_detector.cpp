@@ -216,8 +216,16 @@ std::unique_ptr<MarkerDetector> make_aruco_detector(const std::string& dictionar
 
 FamilyLayout aruco_layout(const std::string& dictionary) {
   const ArucoDictionaryEntry& entry = dictionary_or_throw(dictionary);
-  const int bits = cv::aruco::getPredefinedDictionary(entry.id)->markerSize;
-  return FamilyLayout{bits + 2, bits + 4};
+  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(entry.id);
+  const int bits = dict->markerSize;
+  // OpenCV stores the correctable bits; its AprilTag dictionaries carry 0 there, so use their
+  // families' published distances (16h5 ... 36h11).
+  int distance = 2 * dict->maxCorrectionBits + 1;
+  if (dictionary.rfind("DICT_APRILTAG_", 0) == 0) {
+    const std::string family = dictionary.substr(14);
+    distance = family == "16h5" ? 5 : family == "25h9" ? 9 : family == "36h10" ? 10 : 11;
+  }
+  return FamilyLayout{bits + 2, bits + 4, distance};
 }
 
 }  // namespace iilfm::detail

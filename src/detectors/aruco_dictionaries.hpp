@@ -1,19 +1,12 @@
-// OpenCV's predefined ArUco dictionaries by name ("DICT_4X4_50", ...).
+// The detector's view of the shared dictionary table (include/iilfm/aruco_dictionaries.hpp).
 #pragma once
 
-#include <opencv2/aruco/dictionary.hpp>
-#include <string>
-#include <vector>
+#include "iilfm/aruco_dictionaries.hpp"
 
 namespace iilfm::detail {
 
-struct ArucoDictionaryEntry {
-  const char* name;  // OpenCV's enumerator name, e.g. "DICT_4X4_50"
-  cv::aruco::PREDEFINED_DICTIONARY_NAME id;
-};
-
-// Every predefined dictionary of OpenCV 4.6, in enumerator order.
-const std::vector<ArucoDictionaryEntry>& aruco_dictionaries();
-const ArucoDictionaryEntry* find_aruco_dictionary(const std::string& name);
+using iilfm::aruco_dictionaries;
+using iilfm::ArucoDictionaryEntry;
+using iilfm::find_aruco_dictionary;
 
 }  // namespace iilfm::detail

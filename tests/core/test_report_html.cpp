@@ -32,7 +32,7 @@ TEST(HtmlReport, HoldsTheFrameResultAndSubsampledPoints) {
   options.map = MarkerMap::load(dir + "mid40_tag_wall_map.yaml");
   Pipeline pipeline(options);
   const FrameResult& result = pipeline.process(loaded.cloud);
-  const InputInfo info{"</script><b>scan.pcd", loaded.stats, 1.5};
+  const InputInfo info{"</script><b>scan.pcd", loaded.stats, 1.5, "preset mid40"};
 
   HtmlReportOptions report;
   report.title = "a <title> & more";
@@ -44,7 +44,7 @@ TEST(HtmlReport, HoldsTheFrameResultAndSubsampledPoints) {
   // The name cannot close the data element: "</" is escaped inside it.
   EXPECT_EQ(page.find("</script><b>"), std::string::npos);
   EXPECT_NE(page.find("<\\/script><b>scan.pcd"), std::string::npos);
-  EXPECT_EQ(page.find("src=\"http"), std::string::npos);   // nothing fetched
+  EXPECT_EQ(page.find("src=\"http"), std::string::npos);  // nothing fetched
   EXPECT_NE(page.find("Three.js Authors"), std::string::npos);
 
   const nlohmann::json data = page_data(page);
@@ -73,7 +73,7 @@ TEST(HtmlReport, RefusesNoFramesAndUnwritablePaths) {
   PointCloud none;
   try {
     write_html_report("/nonexistent-dir/report.html",
-                      {HtmlFrame{&empty, InputInfo{"x.pcd", {}, 0}, PointView(none)}});
+                      {HtmlFrame{&empty, InputInfo{"x.pcd", {}, 0, ""}, PointView(none)}});
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent-dir/report.html: cannot write HTML report");

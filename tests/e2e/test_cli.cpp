@@ -99,6 +99,26 @@ TEST(Cli, SimThenDetectWritesTheContractJson) {
     EXPECT_TRUE(j["timing_ms"].contains(stage)) << stage;
 }
 
+// No preset and no resolution: estimated from the cloud, said on stdout and in the JSON.
+TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
+  const fs::path d = temp_dir();
+  const std::string pcd = (d / "auto.pcd").string(), map = (d / "auto.yaml").string(),
+                    json = (d / "auto.json").string();
+  ASSERT_EQ(run("sim --scene ccw10m --sensor ultrapuck --out " + pcd + " --map " + map).status, 0);
+  const CommandRun r =
+      run("detect " + pcd + " --marker apriltag:tag16h5 --map " + map + " --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("resolution estimated from the cloud (ring field)"), std::string::npos)
+      << r.out;
+  const nlohmann::json j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["image"]["resolution"], "estimated (ring field)");
+  EXPECT_EQ(j["image"]["rows"], "ring field");
+  EXPECT_NEAR(j["image"]["res_h_deg"].get<double>(), 0.2, 0.02);
+  ASSERT_EQ(j["markers"].size(), 1u);
+  ASSERT_TRUE(j["pose"].is_object());
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), 0.0, 0.1);
+}
+
 TEST(Cli, NoMapMeansPoseNullWithAReason) {
   const fs::path d = temp_dir();
   const std::string pcd = (d / "nomap.pcd").string(), json = (d / "nomap.json").string();
@@ -139,7 +159,11 @@ TEST(Cli, BadInputGivesOneLineAndExitTwo) {
   expect_input_error("detect " + good + " --sensor mid40 --marker apriltag:tag99h9", "tag99h9");
   expect_input_error("detect " + good + " --sensor mid40 --marker tag36h11", "apriltag:tag36h11");
   expect_input_error("detect " + good + " --sensor nosuch", "unknown sensor preset 'nosuch'");
-  expect_input_error("detect " + good, "--sensor");
+  const fs::path tiny = d / "tiny.pcd";
+  std::ofstream(tiny)
+      << "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+         "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 0 0 5\n1 1 0 5\n";
+  expect_input_error("detect " + tiny.string(), tiny.string() + ": too few points");
   expect_input_error("detect " + good + " --sensor mid40 --threshold abc", "--threshold");
   expect_input_error("detect " + good + " --sensor mid40 --lift magic", "--lift");
 

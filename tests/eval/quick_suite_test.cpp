@@ -1,7 +1,7 @@
-// The quick suite (one set-up of each paper table) holds the accuracy measured when it was
-// written, with margins, so regressions fail. Bounds: about twice the measured mean and worst over
-// seeds 1-3, never looser than the (Mid-40: LiDAR position 10 cm, rotation 6 deg) or than
-// tests/e2e/test_sim_accuracy.cpp.
+// The quick suite (one set-up of each paper table and an ArUco case) holds the accuracy measured
+// when it was written, with margins, so regressions fail. Bounds: about twice the measured mean and
+// worst over seeds 1-3, never looser than the (Mid-40: LiDAR position 10 cm, rotation 6
+// deg) or than tests/e2e/test_sim_accuracy.cpp.
 #include <gtest/gtest.h>
 
 #include "iilfm/eval/report.hpp"
@@ -75,6 +75,17 @@ TEST(QuickSuite, UltraPuckCcw10m) {
   ASSERT_EQ(r.size(), 2u);
   expect_within(r[0], {0.021, 0.03, 0.07, 0.09, 0.5, 0.6});
   expect_within(r[1], {0.04, 0.08, 0.55, 1.0, 3.2, 5.8});
+}
+
+// The paper's grid ArUco marker (16 cm DICT_4X4_50) alone at 2 m, 40 frames. Measured (seeds
+// 1-3), plane: vertex 0.2 mm (0.3), position 2.9 mm (4.1), rotation 0.08 deg (0.12); paper's rule:
+// 14.9 mm (26.2), 270 mm (330), 7.7 deg (9.4).
+TEST(QuickSuite, Mid40ArucoAtTwoMetres) {
+  const std::vector<SetupResult> r = run_quick_setup(3);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].setup.spec.scene_params.family, "aruco:DICT_4X4_50");
+  expect_within(r[0], {0.0005, 0.001, 0.006, 0.008, 0.17, 0.25});
+  expect_within(r[1], {0.03, 0.055, 0.55, 0.66, 15, 19});
 }
 
 }  // namespace

@@ -12,15 +12,32 @@ namespace {
 
 TEST(Suites, PaperSuiteRebuildsTablesOneToThree) {
   const std::vector<SuiteSetup> paper = named_suite("paper");
-  ASSERT_EQ(paper.size(), 11u);  // 3 distances x 2 frame counts, 4 turns, ccw10m
+  ASSERT_GE(paper.size(), 11u);  // 3 distances x 2 frame counts, 4 turns, ccw10m, then ArUco
   EXPECT_EQ(paper[0].spec.scene_params.distance_m.value(), 2.0);
   EXPECT_EQ(paper[1].spec.frames, 100);
   EXPECT_EQ(paper[5].spec.scene_params.distance_m.value(), 4.0);
   EXPECT_DOUBLE_EQ(paper[6].spec.lidar_rpy_deg.y(), -15);  // pitch
   EXPECT_DOUBLE_EQ(paper[9].spec.lidar_rpy_deg.z(), 15);   // yaw
   EXPECT_EQ(paper[10].spec.scene, "ccw10m");
-  EXPECT_EQ(named_suite("quick").size(), 3u);
+  EXPECT_EQ(named_suite("quick").size(), 4u);
   EXPECT_THROW(named_suite("full"), InputError);
+}
+
+// The ArUco cases: the paper's VLP-16 with a 40 cm original ArUco (three distances, and the
+// Hi-Res at two), and the grid's 16 cm DICT_4X4_50 on a Mid-40; the quick suite keeps the latter.
+TEST(Suites, PaperSuiteHasTheArucoCases) {
+  const std::vector<SuiteSetup> paper = named_suite("paper");
+  ASSERT_EQ(paper.size(), 17u);
+  for (std::size_t i = 11; i < 16; ++i) {
+    EXPECT_EQ(paper[i].spec.scene_params.family.value(), "aruco:DICT_ARUCO_ORIGINAL");
+    EXPECT_DOUBLE_EQ(paper[i].spec.scene_params.marker_size_m.value(), 0.4);
+    EXPECT_EQ(paper[i].spec.frames, 1);
+    EXPECT_FALSE(paper[i].published.empty());
+  }
+  EXPECT_EQ(paper[11].spec.sensor, "vlp16");
+  EXPECT_EQ(paper[15].spec.sensor, "vlp16-hires");
+  EXPECT_EQ(paper[16].spec.scene_params.family.value(), "aruco:DICT_4X4_50");
+  EXPECT_EQ(named_suite("quick")[3].name, paper[16].name);
 }
 
 SuiteResult fake_result() {
@@ -66,6 +83,19 @@ TEST(Report, MarkdownHasOneRowPerSetupAndLift) {
                     "5.0 (5.0) | 0.20 (0.20) |"),
             std::string::npos)
       << md;
+}
+
+TEST(Report, PublishedNoteFollowsItsGroupsTable) {
+  SuiteResult suite = fake_result();
+  SetupResult aruco = suite.results[0];
+  aruco.setup = named_suite("quick")[3];
+  suite.results.push_back(aruco);
+  const std::string md = to_markdown(suite);
+  const std::size_t table = md.find("**ArUco: Mid-40"), note = md.find("Paper (Fig. 8(a)");
+  ASSERT_NE(table, std::string::npos) << md;
+  ASSERT_NE(note, std::string::npos) << md;
+  EXPECT_LT(table, note);
+  EXPECT_EQ(md.find("Paper ("), note);  // Table 1 has no note
 }
 
 TEST(Report, JsonHoldsEveryCaseInSIUnits) {

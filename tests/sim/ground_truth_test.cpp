@@ -185,5 +185,71 @@ TEST(Scenes, ParamsOverrideTheDefaults) {
   EXPECT_NEAR(setup.T_world_lidar.translation().x(), 3.62 - 5, 1e-12);
 }
 
+// The paper's Fig. 1(a): 35 tag36h11 and 4 ArUco markers on one wall, every one inside the
+// Mid-40's cone, no sheet overlapping another, and the families carried into the files.
+TEST(Scenes, PaperGridHas35TagsAnd4ArucoMarkers) {
+  const SceneSetup setup = named_scene("paper-grid");
+  ASSERT_EQ(setup.scene.markers.size(), 39u);
+  for (int i = 0; i < 35; ++i) {
+    EXPECT_EQ(setup.scene.markers[i].family, "apriltag:tag36h11");
+    EXPECT_EQ(setup.scene.markers[i].id, i);
+    EXPECT_DOUBLE_EQ(setup.scene.markers[i].size_m, 0.172);
+  }
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(setup.scene.markers[35 + i].family, "aruco:DICT_4X4_50");
+    EXPECT_EQ(setup.scene.markers[35 + i].id, i);
+    EXPECT_DOUBLE_EQ(setup.scene.markers[35 + i].size_m, 0.16);
+  }
+  // Printed sheets (black square plus the white margin) keep apart: 21.5 cm tag sheets, 21.3 cm
+  // ArUco sheets (6 of 8 cells black).
+  const auto half_sheet = [](const MarkerSpec& m) {
+    return m.family == "aruco:DICT_4X4_50" ? m.size_m * 8 / 12 : m.size_m * 10 / 16;
+  };
+  for (std::size_t a = 0; a < 39; ++a) {
+    for (std::size_t b = a + 1; b < 39; ++b) {
+      const Vec3 d = setup.scene.markers[a].T_world_marker.translation() -
+                     setup.scene.markers[b].T_world_marker.translation();
+      const double reach = half_sheet(setup.scene.markers[a]) + half_sheet(setup.scene.markers[b]);
+      EXPECT_TRUE(std::abs(d.y()) > reach || std::abs(d.z()) > reach) << a << " and " << b;
+    }
+  }
+  SimOptions o;
+  o.T_world_lidar = setup.T_world_lidar;
+  o.frames = 1;
+  const SimResult r = simulate(setup.scene, mid40(), o);
+  for (const MarkerTruth& m : r.truth.markers) EXPECT_TRUE(m.visible) << m.family << " " << m.id;
+
+  const std::string truth_path = temp_path("paper_grid.json"), map_path = temp_path("pg.yaml");
+  write_ground_truth_json(truth_path, r.truth);
+  write_marker_map_yaml(map_path, setup.scene);
+  std::ifstream in(truth_path);
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc.at("markers")[38].at("family"), "aruco:DICT_4X4_50");
+  EXPECT_EQ(doc.at("markers")[38].at("id"), 3);
+  EXPECT_EQ(read_ground_truth_json(truth_path).markers[36].family, "aruco:DICT_4X4_50");
+  const YAML::Node map = YAML::LoadFile(map_path);
+  EXPECT_EQ(map["markers"][35]["family"].as<std::string>(), "aruco:DICT_4X4_50");
+  EXPECT_EQ(map["markers"][34]["family"].as<std::string>(), "apriltag:tag36h11");
+  std::remove(truth_path.c_str());
+  std::remove(map_path.c_str());
+
+  SceneParams family;
+  family.family = "apriltag:tag25h9";
+  EXPECT_THROW(named_scene("paper-grid", family), InputError);
+  EXPECT_THROW(named_scene("paper-grid", SceneParams{{}, {}, {}, 0.0}), InputError);
+}
+
+TEST(Scenes, ArucoFamiliesPrintInNamedScenes) {
+  SceneParams p;
+  p.family = "aruco:DICT_ARUCO_ORIGINAL";
+  p.marker_size_m = 0.4;
+  const SceneSetup setup = named_scene("grid", p);
+  ASSERT_EQ(setup.scene.markers.size(), 35u);
+  EXPECT_EQ(setup.scene.markers[34].family, "aruco:DICT_ARUCO_ORIGINAL");
+  p.family = "aruco:DICT_4X4_50";
+  p.id = 20;  // the grid would need ids up to 54
+  EXPECT_THROW(named_scene("grid", p), InputError);
+}
+
 }  // namespace
 }  // namespace iilfm::sim

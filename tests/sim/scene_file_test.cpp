@@ -124,6 +124,25 @@ markers: [{family: "apriltag:tag36h11", id: 4, size: 0.3, on_wall: 0, at: [2, -0
   EXPECT_LT((m.T_world_marker.linear().col(0) - Vec3(0, 0, 1)).norm(), 1e-12);
 }
 
+TEST(SceneFile, ArucoMarkersPrintAndRoundTrip) {
+  const SceneSetup s = parse_scene_yaml(R"(
+lidar: {sensor: vlp16}
+walls: [{centre: [2, 0, 0], rpy_deg: [90, 0, -90], width: 4, height: 3}]
+markers:
+  - {family: "aruco:DICT_ARUCO_ORIGINAL", id: 1023, size: 0.4, on_wall: 0, at: [0, 0]}
+  - {family: "aruco:DICT_APRILTAG_36h11", id: 3, size: 0.2, on_wall: 0, at: [1, 0.5]}
+)",
+                                        "aruco.yaml");
+  ASSERT_EQ(s.scene.markers.size(), 2u);
+  EXPECT_EQ(s.scene.markers[0].family, "aruco:DICT_ARUCO_ORIGINAL");
+  EXPECT_EQ(s.scene.markers[0].id, 1023);
+  EXPECT_EQ(s.scene.markers[1].family, "aruco:DICT_APRILTAG_36h11");
+  const fs::path path = fs::temp_directory_path() / ("iilfm_aruco_" + std::to_string(::getpid()));
+  write_scene_yaml(path.string(), s);
+  expect_same_setup(read_scene_yaml(path.string()), s);
+  fs::remove(path);
+}
+
 TEST(SceneFile, ShippedExamplesLoadAndShowTheirMarkers) {
   const std::string dir = std::string(IILFM_SOURCE_DIR) + "/data/scenes/";
   const SceneSetup room = read_scene_yaml(dir + "room.yaml");
@@ -220,6 +239,14 @@ TEST(SceneFile, EachMistakeGetsItsOwnMessage) {
                    "markers: [{family: \"apriltag:tag16h5\", id: 1.5, size: 0.2, pose: {position: "
                    "[1, 0, 0]}}]\n",
                "markers[0]", "whole number");
+  expect_error(lidar + wall +
+                   "markers: [{family: \"aruco:DICT_4X4_50\", id: 50, size: 0.2, pose: "
+                   "{position: [1, 0, 0]}}]\n",
+               "markers[0]", "outside aruco:DICT_4X4_50");
+  expect_error(lidar + wall +
+                   "markers: [{family: \"aruco:DICT_3X3_50\", id: 0, size: 0.2, pose: "
+                   "{position: [1, 0, 0]}}]\n",
+               "markers[0]", "cannot print marker family 'aruco:DICT_3X3_50'");
   expect_error(
       lidar + wall + "markers: [" + tag + "pose: {position: [1, 0, 0], quat: [0, 0, 0, 1]}}]\n",
       "markers[0].pose", "unknown key 'quat'");

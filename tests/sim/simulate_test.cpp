@@ -217,7 +217,10 @@ TEST(Simulate, BadInputsAreInputErrors) {
   scene.markers[0].size_m = 0;
   EXPECT_THROW(simulate(scene, mid40(), SimOptions{}), InputError);
   scene.markers[0].size_m = 0.2;
+  scene.markers[0].family = "aruco:DICT_4X4_51";
+  EXPECT_THROW(simulate(scene, mid40(), SimOptions{}), InputError);
   scene.markers[0].family = "aruco:DICT_4X4_50";
+  scene.markers[0].id = 50;
   EXPECT_THROW(simulate(scene, mid40(), SimOptions{}), InputError);
   scene.markers[0].family = "apriltag:tag36h11";
   scene.markers[0].id = 587;  // tag36h11 has 587 codes

@@ -12,14 +12,19 @@
 namespace iilfm::eval {
 
 struct SuiteSetup {
-  std::string group;  // the table it belongs to, e.g. "Table 1: Mid-40, ..."
-  std::string name;   // e.g. "Mid-40, 2 m, 40 frames"
+  std::string group;      // the table it belongs to, e.g. "Table 1: Mid-40, ..."
+  std::string name;       // e.g. "Mid-40, 2 m, 40 frames"
+  std::string published;  // what the paper published for this group, printed under its table
   CaseSpec spec;
 };
 
 // "paper": Table 1 (Mid-40, 17.2 cm tag36h11 at 2, 3, 4 m; 40 and 100 frames), Table 2 (2 m, 40
 // frames, LiDAR pitched and yawed by +-15 deg), Table 3 (ULTRA Puck, ccw10m).
-// "quick": one set-up of each table (2 m / 40 frames, yaw +15 deg, ccw10m), for CI.
+// Then the ArUco cases: the paper's VLP-16 with a 40 cm DICT_ARUCO_ORIGINAL marker (one sweep at
+// 1, 1.5 and 2 m, and a VLP-16 Hi-Res at 2 and 3 m), and a Mid-40 with the 16 cm DICT_4X4_50
+// marker of the paper's grid at 2 m.
+// "quick": one set-up of each table (2 m / 40 frames, yaw +15 deg, ccw10m) and the Mid-40 ArUco
+// case, for CI.
 // InputError for other names.
 std::vector<SuiteSetup> named_suite(const std::string& name);
 std::vector<std::string> suite_names();

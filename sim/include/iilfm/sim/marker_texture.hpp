@@ -1,4 +1,5 @@
-// The printed image of an AprilTag, rendered once by libapriltag and looked up per beam.
+// The printed image of a marker, rendered once by the family's own generator and looked up per
+// beam.
 #pragma once
 
 #include <cstdint>
@@ -15,11 +16,19 @@ struct MarkerTexture {
   bool is_black(int row, int col) const { return pixels[row * total_width + col] < 128; }
 };
 
-// Renders `id` of a family named "apriltag:<name>" with libapriltag's apriltag_to_image.
-// InputError for other prefixes, unknown families and ids outside the family.
+// Renders `id` of a family named "apriltag:<name>" with libapriltag's apriltag_to_image, or
+// "aruco:<DICT_...>" with OpenCV's drawMarker (one-cell black border, as the detector expects)
+// inside a one-cell white margin, like apriltag_to_image's tag36h11. InputError for other
+// prefixes, unknown families and ids outside the family.
 MarkerTexture render_marker_texture(const std::string& family, int id);
 
 // Names of the AprilTag families libapriltag ships, with the "apriltag:" prefix.
 std::vector<std::string> apriltag_family_names();
+
+// Names of OpenCV's predefined ArUco dictionaries, with the "aruco:" prefix.
+std::vector<std::string> aruco_family_names();
+
+// Every family the simulator prints: the AprilTag families, then the ArUco dictionaries.
+std::vector<std::string> marker_family_names();
 
 }  // namespace iilfm::sim

@@ -1,4 +1,4 @@
-// What the simulated LiDAR looks at: flat walls and AprilTag markers printed on them.
+// What the simulated LiDAR looks at: flat walls and AprilTag or ArUco markers printed on them.
 #pragma once
 
 #include <array>
@@ -10,7 +10,8 @@
 namespace iilfm::sim {
 
 struct MarkerSpec {
-  std::string family;  // "apriltag:tag36h11" (any family libapriltag ships)
+  std::string family;  // "apriltag:tag36h11" (any libapriltag family) or "aruco:DICT_4X4_50" (any
+                       // OpenCV predefined dictionary)
   int id = 0;
   double size_m = 0;  // edge of the outer black square (= width_at_border cells)
   // Marker frame: origin at the centre, x to the marker's right, y up, z out of the printed face

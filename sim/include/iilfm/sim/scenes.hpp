@@ -25,8 +25,12 @@ struct SceneSetup {
 };
 
 // "tag-wall": the paper's set-up, a 17.2 cm tag36h11 id 0 centred at (3.62, 0, 0.485) on a wall
-//   facing -x, floor at z = 0, a Mid-40 level with the tag 2 m in front of it.
+//   facing -x, floor at z = 0, a Mid-40 level with the tag 2 m in front of it (markers larger
+//   than 0.5 m are raised to 0.75 x size + 0.1 m so their sheet clears the floor).
 // "grid": 7 x 5 tag36h11 ids 0..34 of 17.2 cm on letter-size pitch around the same centre, 3.5 m.
+// "paper-grid": the paper's Fig. 1(a) and 8(a), the 35 tags of "grid" and four 16 cm
+//   DICT_4X4_50 ArUco markers (ids 0..3, 2 x 2) to their right on the same wall, 4 m; family, id
+//   and size are fixed.
 // "ccw10m": LiDARTag's ccw_10m set-up, a ULTRA Puck at the origin and a tag16h5 on a 1.22 m board
 //   (0.915 m black square) 10 m ahead, turned about 45 deg in its plane, on a wall yawed 23.4 deg
 //   and leaning back 8.9 deg.

@@ -1,6 +1,7 @@
-#include "aruco_dictionaries.hpp"
+// OpenCV's predefined dictionaries by their enumerator names.
+#include "iilfm/aruco_dictionaries.hpp"
 
-namespace iilfm::detail {
+namespace iilfm {
 
 const std::vector<ArucoDictionaryEntry>& aruco_dictionaries() {
   using namespace cv::aruco;
@@ -36,4 +37,4 @@ const ArucoDictionaryEntry* find_aruco_dictionary(const std::string& name) {
   return nullptr;
 }
 
-}  // namespace iilfm::detail
+}  // namespace iilfm

@@ -1,0 +1,50 @@
+// Detection range: the farthest distance at which a marker is still found in at least `required`
+// of `seeds` simulated scans, for the paper's pipeline settings and for iilfm's defaults, on the
+// same scans (docs/sensors.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "iilfm/eval/case.hpp"
+
+namespace iilfm::eval {
+
+enum class RangeSettings {
+  kPaper,  // uniform rows at the preset's resolution, no hole filling, the detector on that image
+  kIilfm,  // the defaults: ring rows, hole filling, square pixels, undersampled-marker filter
+};
+const char* settings_name(RangeSettings settings);
+
+// Options for the pipeline with `settings` on a simulated case (sensor preset, marker family).
+PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings settings);
+
+struct RangeQuery {
+  std::string sensor;            // simulated sensor (and preset)
+  double marker_size_m = 0.172;  // edge of the black square
+  std::string family = "apriltag:tag36h11";
+  // Each seed also pitches the LiDAR by up to +-1 deg and yaws it by up to +-2 deg, so seeds
+  // sample where the rings cross the marker as well as the noise.
+  int seeds = 10, required = 9;
+  bool footprint = true;  // beam-footprint intensity averaging (mixed edges)
+  std::vector<double> distances = {1,  1.5, 2,  2.5, 3,  3.5, 4,  5,  6,  7,  8, 9,
+                                   10, 12,  14, 16,  18, 20,  23, 26, 30, 35, 40};
+};
+
+struct RangeResult {
+  RangeQuery query;
+  RangeSettings settings = RangeSettings::kIilfm;
+  double max_distance_m = 0;                  // 0: not found reliably at any distance tried
+  std::vector<std::pair<double, int>> found;  // distance -> seeds with the marker found
+  int false_positives = 0;                    // over every scan tried
+};
+
+// Walks the distances outwards until two in a row fail (six before the first success); both
+// settings see the same scans. One result per entry of `settings`.
+std::vector<RangeResult> detection_range(const RangeQuery& query,
+                                         const std::vector<RangeSettings>& settings);
+
+// Markdown table: one row per sensor and size, the range of each settings and the ratio.
+std::string range_table_markdown(const std::vector<RangeResult>& results);
+
+}  // namespace iilfm::eval

@@ -1,0 +1,180 @@
+#include "iilfm/ring_structure.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace iilfm {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+// Enough points to see every ring of a 128-channel sensor many times over, few enough that the
+// check costs a fraction of the projection.
+constexpr std::size_t kMaxSamples = 200'000;
+constexpr std::size_t kMinRings = 4;
+constexpr std::size_t kMaxRings = 512;
+
+std::size_t sample_stride(std::size_t n) { return std::max<std::size_t>(1, n / kMaxSamples); }
+
+// Half-width of the band around a ring's elevation that its points must fall in: a quarter of the
+// gap to the nearer neighbour, so a point is never closer to the wrong ring.
+std::vector<double> ring_bands(const std::vector<double>& elevation) {
+  std::vector<double> band(elevation.size());
+  for (std::size_t r = 0; r < elevation.size(); ++r) {
+    double gap = M_PI;
+    if (r > 0) gap = std::min(gap, elevation[r - 1] - elevation[r]);
+    if (r + 1 < elevation.size()) gap = std::min(gap, elevation[r] - elevation[r + 1]);
+    band[r] = std::max(0.25 * gap, 0.02 * kDeg);
+  }
+  return band;
+}
+
+}  // namespace
+
+double RingStructure::mean_spacing() const {
+  if (elevation.size() < 2) return 0;
+  return (elevation.front() - elevation.back()) / static_cast<double>(elevation.size() - 1);
+}
+
+std::optional<RingStructure> rings_from_field(const PointView& cloud, const float* elevation) {
+  if (!cloud.has_ring() || cloud.empty()) return std::nullopt;
+  const std::size_t n = cloud.size(), stride = sample_stride(n);
+  std::uint16_t max_ring = 0;
+  for (std::size_t i = 0; i < n; ++i) max_ring = std::max(max_ring, cloud.ring[i]);
+  if (max_ring >= 4096) return std::nullopt;
+  const std::size_t ring_ids = static_cast<std::size_t>(max_ring) + 1;
+
+  // Mean elevation per ring, then the mean again over the points near it (drops stray returns).
+  std::vector<double> sum(ring_ids, 0), count(ring_ids, 0);
+  for (std::size_t i = 0; i < n; i += stride) {
+    if (!std::isfinite(elevation[i])) continue;
+    sum[cloud.ring[i]] += elevation[i];
+    count[cloud.ring[i]] += 1;
+  }
+  std::vector<double> mean(ring_ids, 0);
+  for (std::size_t r = 0; r < ring_ids; ++r) mean[r] = count[r] > 0 ? sum[r] / count[r] : 0;
+  std::fill(sum.begin(), sum.end(), 0);
+  std::vector<double> near(ring_ids, 0);
+  for (std::size_t i = 0; i < n; i += stride) {
+    const std::uint16_t r = cloud.ring[i];
+    if (std::fabs(elevation[i] - mean[r]) > 0.5 * kDeg) continue;
+    sum[r] += elevation[i];
+    near[r] += 1;
+  }
+
+  std::vector<std::uint16_t> kept;
+  for (std::size_t r = 0; r < ring_ids; ++r) {
+    if (near[r] >= 3) {
+      mean[r] = sum[r] / near[r];
+      kept.push_back(static_cast<std::uint16_t>(r));
+    }
+  }
+  if (kept.size() < kMinRings || kept.size() > kMaxRings) return std::nullopt;
+  std::sort(kept.begin(), kept.end(), [&](auto a, auto b) { return mean[a] > mean[b]; });
+
+  RingStructure rings;
+  rings.source = "ring field";
+  rings.row_of_ring.assign(ring_ids, -1);
+  for (std::size_t row = 0; row < kept.size(); ++row) {
+    rings.elevation.push_back(mean[kept[row]]);
+    rings.row_of_ring[kept[row]] = static_cast<std::int32_t>(row);
+    // Two rings at one elevation are not laser cones (e.g. Livox scan lines).
+    if (row > 0 && rings.elevation[row - 1] - rings.elevation[row] < 0.02 * kDeg)
+      return std::nullopt;
+  }
+
+  // Cones of constant elevation: nearly every point lies close to its ring's elevation.
+  const std::vector<double> band = ring_bands(rings.elevation);
+  double inside = 0, total = 0;
+  for (std::size_t i = 0; i < n; i += stride) {
+    if (!std::isfinite(elevation[i])) continue;
+    total += 1;
+    const std::int32_t row = rings.row_of_ring[cloud.ring[i]];
+    if (row >= 0 && std::fabs(elevation[i] - rings.elevation[row]) <= band[row]) inside += 1;
+  }
+  if (total == 0 || inside < 0.9 * total) return std::nullopt;
+  return rings;
+}
+
+std::optional<RingStructure> rings_from_elevations(const float* elevation, std::size_t n) {
+  const std::size_t stride = sample_stride(n);
+  float lo = 10, hi = -10;
+  std::size_t samples = 0;
+  for (std::size_t i = 0; i < n; i += stride) {
+    if (!std::isfinite(elevation[i])) continue;
+    lo = std::min(lo, elevation[i]);
+    hi = std::max(hi, elevation[i]);
+    ++samples;
+  }
+  if (samples < 100) return std::nullopt;
+
+  // Histogram at 0.02 deg: a ring fills one or two bins, its neighbours are >= 0.15 deg away.
+  const double bin = 0.02 * kDeg;
+  const std::size_t bins = static_cast<std::size_t>((hi - lo) / bin) + 1;
+  std::vector<double> count(bins, 0), sum(bins, 0);
+  for (std::size_t i = 0; i < n; i += stride) {
+    if (!std::isfinite(elevation[i])) continue;
+    const std::size_t b = std::min(bins - 1, static_cast<std::size_t>((elevation[i] - lo) / bin));
+    count[b] += 1;
+    sum[b] += elevation[i];
+  }
+
+  // Clusters: runs of bins that each hold at least 0.1 % of the points.
+  const double occupied = std::max(2.0, 0.001 * static_cast<double>(samples));
+  struct Cluster {
+    std::size_t first, last;
+    double count, sum;
+  };
+  std::vector<Cluster> clusters;
+  double clustered = 0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    if (count[b] < occupied) continue;
+    if (!clusters.empty() && clusters.back().last + 1 == b) {
+      clusters.back().last = b;
+      clusters.back().count += count[b];
+      clusters.back().sum += sum[b];
+    } else {
+      clusters.push_back({b, b, count[b], sum[b]});
+    }
+    clustered += count[b];
+  }
+  if (clusters.size() < kMinRings || clusters.size() > kMaxRings) return std::nullopt;
+  if (clustered < 0.9 * static_cast<double>(samples)) return std::nullopt;
+
+  RingStructure rings;
+  rings.source = "elevation clusters";
+  for (auto c = clusters.rbegin(); c != clusters.rend(); ++c)
+    rings.elevation.push_back(c->sum / c->count);
+  // Narrow bands far apart, as laser cones are; a dense but continuous cloud fails here.
+  const std::vector<double> band = ring_bands(rings.elevation);
+  for (std::size_t row = 0; row < clusters.size(); ++row) {
+    const Cluster& c = clusters[clusters.size() - 1 - row];
+    const double width = static_cast<double>(c.last - c.first + 1) * bin;
+    if (width > 2 * band[row] + bin) return std::nullopt;
+  }
+  return rings;
+}
+
+RingRowLookup::RingRowLookup(const RingStructure& rings) {
+  const std::vector<double>& e = rings.elevation;
+  if (e.empty()) return;
+  double min_gap = 1.0 * kDeg;
+  for (std::size_t r = 1; r < e.size(); ++r) min_gap = std::min(min_gap, e[r - 1] - e[r]);
+  const double step = std::max(min_gap / 8, 1e-5);
+  const double margin = 2 * min_gap;
+  start_ = static_cast<float>(e.back() - margin);
+  inv_step_ = static_cast<float>(1 / step);
+  const std::size_t cells =
+      static_cast<std::size_t>((e.front() - e.back() + 2 * margin) / step) + 1;
+  rows_.resize(cells);
+  // Rows run from the highest ring (row 0) down; walk the table upwards from the lowest ring.
+  std::size_t row = e.size() - 1;
+  for (std::size_t i = 0; i < cells; ++i) {
+    const double el = start_ + (static_cast<double>(i) + 0.5) * step;
+    while (row > 0 && el > 0.5 * (e[row] + e[row - 1])) --row;
+    rows_[i] = static_cast<std::int32_t>(row);
+  }
+}
+
+}  // namespace iilfm

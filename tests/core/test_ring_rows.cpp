@@ -1,0 +1,185 @@
+// Ring rows: ring structure from the ring field and from elevations, the piecewise-linear row
+// geometry and its exact inverse, ring-aware projection, and the square-pixel mapping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "iilfm/projection.hpp"
+#include "iilfm/ring_structure.hpp"
+#include "iilfm/square_pixels.hpp"
+
+namespace iilfm {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A VLP-32C-like non-uniform layout: dense 0.33 deg near the horizon, sparse above and below.
+std::vector<double> nonuniform_rings_deg() {
+  std::vector<double> rings;
+  for (double e = -25; e < -8.5; e += 3.4) rings.push_back(e);
+  for (double e = -8; e < 2.5; e += 0.333) rings.push_back(e);
+  for (double e = 3; e <= 15; e += 2.4) rings.push_back(e);
+  return rings;
+}
+
+// One point per ring and column at range 5-15 m, ring field as the driver writes it (ring 0 the
+// lowest), in a shuffled order.
+PointCloud spinning_cloud(const std::vector<double>& rings_deg, double step_deg, bool with_ring) {
+  PointCloud cloud;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> range(5, 15);
+  for (std::size_t ring = 0; ring < rings_deg.size(); ++ring) {
+    for (double az = -180 + step_deg / 2; az < 180; az += step_deg) {
+      const double e = rings_deg[ring] * kDeg, a = az * kDeg, r = range(rng);
+      cloud.push_back(static_cast<float>(r * std::cos(e) * std::cos(a)),
+                      static_cast<float>(r * std::cos(e) * std::sin(a)),
+                      static_cast<float>(r * std::sin(e)), static_cast<float>(ring));
+      if (with_ring) cloud.ring.push_back(static_cast<std::uint16_t>(ring));
+    }
+  }
+  return cloud;
+}
+
+std::vector<float> elevations(const PointCloud& cloud) {
+  std::vector<float> e(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    e[i] = static_cast<float>(std::atan2(cloud.z[i], std::hypot(cloud.x[i], cloud.y[i])));
+  return e;
+}
+
+TEST(RingStructure, FromTheRingFieldAndFromElevationsAgree) {
+  const std::vector<double> truth = nonuniform_rings_deg();
+  const PointCloud cloud = spinning_cloud(truth, 0.2, true);
+  const std::vector<float> el = elevations(cloud);
+  const auto by_field = rings_from_field(cloud, el.data());
+  const auto by_elevation = rings_from_elevations(el.data(), el.size());
+  ASSERT_TRUE(by_field);
+  ASSERT_TRUE(by_elevation);
+  ASSERT_EQ(by_field->rows(), truth.size());
+  ASSERT_EQ(by_elevation->rows(), truth.size());
+  for (std::size_t row = 0; row < truth.size(); ++row) {
+    const double expected = truth[truth.size() - 1 - row] * kDeg;  // row 0 = highest ring
+    EXPECT_NEAR(by_field->elevation[row], expected, 1e-6);
+    EXPECT_NEAR(by_elevation->elevation[row], expected, 1e-6);
+  }
+  EXPECT_EQ(by_field->row_of_ring[0], static_cast<int>(truth.size() - 1));
+}
+
+TEST(RingStructure, ARosetteOrLivoxLinesAreNotRings) {
+  // Points spread evenly over a 38 deg cone, tagged with six "line" numbers as Livox drivers do.
+  PointCloud cloud;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-19 * kDeg, 19 * kDeg);
+  for (int i = 0; i < 100000; ++i) {
+    const double a = angle(rng), e = angle(rng);
+    cloud.push_back(static_cast<float>(std::cos(e) * std::cos(a)),
+                    static_cast<float>(std::cos(e) * std::sin(a)), static_cast<float>(std::sin(e)),
+                    10);
+    cloud.ring.push_back(static_cast<std::uint16_t>(i % 6));
+  }
+  const std::vector<float> el = elevations(cloud);
+  EXPECT_FALSE(rings_from_field(cloud, el.data()));
+  EXPECT_FALSE(rings_from_elevations(el.data(), el.size()));
+}
+
+TEST(RingRows, GeometryRoundTripsExactlyBetweenAndBeyondRings) {
+  ImageGeometry g;
+  g.width = 1800;
+  g.res_h = 0.2 * kDeg;
+  g.u0 = 900;
+  const std::vector<double> layout = nonuniform_rings_deg();
+  for (auto it = layout.rbegin(); it != layout.rend(); ++it) g.row_elevation.push_back(*it * kDeg);
+  g.height = static_cast<int>(g.row_elevation.size());
+  g.res_v = (g.row_elevation.front() - g.row_elevation.back()) / (g.height - 1);
+  for (int row = 0; row < g.height; ++row)
+    EXPECT_NEAR(g.elevation_of_v(row), g.row_elevation[static_cast<std::size_t>(row)], 1e-15);
+  for (double v = -2.0; v <= g.height + 1.0; v += 0.0137) {
+    EXPECT_NEAR(g.v_of_elevation(g.elevation_of_v(v)), v, 1e-9) << v;
+    const Vec3 ray = g.ray(17.3, v);
+    EXPECT_NEAR(g.pixel_of_point(5 * ray).y(), v, 1e-9);
+  }
+  // Monotone: higher elevation, smaller row.
+  EXPECT_LT(g.v_of_elevation(10 * kDeg), g.v_of_elevation(9.9 * kDeg));
+}
+
+TEST(RingRows, ProjectionGivesEveryRingItsOwnRowWithNoEmptyRow) {
+  const std::vector<double> rings = nonuniform_rings_deg();
+  for (bool with_ring : {true, false}) {
+    const PointCloud cloud = spinning_cloud(rings, 0.2, with_ring);
+    ProjectionOptions options;
+    options.res_h_deg = 0.2;
+    options.res_v_deg = 0.333;
+    options.rows = RowLayout::kRings;
+    SphericalProjector projector(options);
+    ProjectedImage image;
+    projector.project(cloud, image);
+    EXPECT_EQ(image.row_source, with_ring ? "ring field" : "elevation clusters");
+    ASSERT_EQ(image.geometry.height, static_cast<int>(rings.size()));
+    EXPECT_EQ(image.points_projected, cloud.size());
+    for (int row = 0; row < image.geometry.height; ++row) {
+      // 1800 columns, one point each: a full row, no collisions.
+      EXPECT_EQ(cv::countNonZero(image.mask.row(row)), image.geometry.width) << "row " << row;
+      EXPECT_EQ(cv::countNonZero(image.count.row(row) > 1), 0) << "row " << row;
+    }
+    // With uniform rows at the finest spacing the sparse rings leave empty rows.
+    options.rows = RowLayout::kUniform;
+    SphericalProjector uniform(options);
+    uniform.project(cloud, image);
+    int empty_rows = 0;
+    for (int row = 0; row < image.geometry.height; ++row)
+      empty_rows += cv::countNonZero(image.mask.row(row)) == 0;
+    EXPECT_GT(empty_rows, 30);
+  }
+}
+
+TEST(SquarePixels, CornersMapBackToTheProjectedImageExactly) {
+  // VLP-16: uniform 2 deg rows; and the non-uniform ring rows.
+  ImageGeometry vlp16 =
+      geometry_for_bounds({-M_PI, M_PI, -15 * kDeg, 15 * kDeg}, 0.2 * kDeg, 2 * kDeg);
+  ImageGeometry rings = vlp16;
+  const std::vector<double> layout = nonuniform_rings_deg();
+  for (auto it = layout.rbegin(); it != layout.rend(); ++it)
+    rings.row_elevation.push_back(*it * kDeg);
+  rings.height = static_cast<int>(rings.row_elevation.size());
+  for (const ImageGeometry& g : {vlp16, rings}) {
+    ASSERT_TRUE(needs_square_pixels(g));
+    const ImageGeometry square = square_pixel_geometry(g);
+    EXPECT_NEAR(square.res_v, square.res_h, 1e-12);
+    EXPECT_EQ(square.width, g.width);
+    EXPECT_GT(square.height, 4 * g.height);
+    for (double v = 0; v <= g.height - 1; v += 0.173) {
+      const Vec2 px(411.37, v);
+      const Vec2 there = map_pixel(px, g, square), back = map_pixel(there, square, g);
+      EXPECT_NEAR(back.x(), px.x(), 1e-9);
+      EXPECT_NEAR(back.y(), px.y(), 1e-9);
+      EXPECT_NEAR(there.x(), px.x(), 1e-9);  // columns are shared
+      // Both land on the same direction.
+      EXPECT_LT((square.ray(there) - g.ray(px)).norm(), 1e-12);
+    }
+  }
+  // Square pixels are left alone.
+  const ImageGeometry mid40 = geometry_for_bounds({-0.3, 0.3, -0.3, 0.3}, 0.05 * kDeg, 0.05 * kDeg);
+  EXPECT_FALSE(needs_square_pixels(mid40));
+}
+
+TEST(SquarePixels, RowsTakeTheNearerRingSoEdgesFallHalfWay) {
+  // Two rings 2 deg apart: black above, white below. The resampled edge lies half-way.
+  ImageGeometry g = geometry_for_bounds({-0.1, 0.1, -1 * kDeg, 1 * kDeg}, 0.2 * kDeg, 2 * kDeg);
+  ASSERT_EQ(g.height, 2);
+  cv::Mat image(2, g.width, CV_32F), valid(2, g.width, CV_8U, cv::Scalar(255));
+  image.row(0).setTo(10);
+  image.row(1).setTo(120);
+  const ImageGeometry square = square_pixel_geometry(g);
+  cv::Mat out, out_valid;
+  resample_rows(image, valid, g, square, out, out_valid);
+  ASSERT_EQ(out.rows, square.height);
+  for (int r = 0; r < out.rows; ++r) {
+    const double elevation = square.elevation_of_v(r);
+    EXPECT_EQ(out.at<float>(r, 3), elevation > 1e-9 ? 10.f : 120.f) << r;
+  }
+  EXPECT_EQ(cv::countNonZero(out_valid), out.rows * out.cols);
+}
+
+}  // namespace
+}  // namespace iilfm
