@@ -17,6 +17,7 @@
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
+#include "iilfm/report_html.hpp"
 #include "iilfm/resolution.hpp"
 #include "iilfm/sensor.hpp"
 
@@ -48,7 +49,7 @@ struct DetectArgs {
   int aruco_window_min = ArucoOptions{}.window_min;
   int aruco_window_max = ArucoOptions{}.window_max;
   int aruco_window_step = ArucoOptions{}.window_step;
-  std::string json_path, image_path;
+  std::string json_path, image_path, html_path;
   std::string topic, jsonl_path, tum_path;  // sequences (detect_sequence.cpp)
   bool quiet = false;
 };
@@ -208,7 +209,10 @@ void report_estimate(const ResolutionEstimate& estimated) {
 }
 
 int run_detect(const DetectArgs& args) {
+  if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
   if (is_image_input(args.input) && std::filesystem::is_regular_file(args.input)) {
+    if (!args.html_path.empty())
+      throw file_error(args.input, "--html needs a point cloud; an image gives --json and --image");
     PipelineOptions options;
     std::optional<ResolutionEstimate> none;
     if (!args.sensor.empty() || (args.res_h > 0 && args.res_v > 0)) {
@@ -224,8 +228,9 @@ int run_detect(const DetectArgs& args) {
   const SequenceArgs sequence{args.input,      args.topic,    args.frames,
                               args.jsonl_path, args.tum_path, args.quiet};
   if (is_sequence_run(sequence)) {
-    if (!args.json_path.empty() || !args.image_path.empty())
-      throw InputError("--json and --image take one cloud; a sequence writes --jsonl and --tum");
+    if (!args.json_path.empty() || !args.image_path.empty() || !args.html_path.empty())
+      throw InputError(
+          "--json, --image and --html take one cloud; a sequence writes --jsonl and --tum");
     return run_detect_sequence(sequence, [&args](const PointCloud& first) {
       std::optional<ResolutionEstimate> estimated;
       PipelineOptions options = pipeline_options(args, first, estimated);
@@ -269,6 +274,8 @@ int run_detect(const DetectArgs& args) {
     }
     if (!written) throw file_error(args.image_path, "cannot write image (use a .png path)");
   }
+  if (!args.html_path.empty())
+    write_html_report(args.html_path, {HtmlFrame{&result, info, PointView(loaded.cloud)}});
   if (!args.quiet) print_summary(result, loaded, std::cout);
   return 0;
 }
@@ -328,6 +335,8 @@ Runner register_detect_command(CLI::App& app) {
       ->check(CLI::Range(1, 255));
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
+  cmd->add_option("--html", args->html_path,
+                  "Write a self-contained HTML report (3-D view, image, tables)");
   cmd->add_option("--topic", args->topic, "Bag topic with the point clouds (bag input)");
   cmd->add_option("--jsonl", args->jsonl_path, "Sequence: one JSON result per frame (JSON Lines)");
   cmd->add_option("--tum", args->tum_path, "Sequence: LiDAR trajectory in TUM format");

@@ -98,7 +98,9 @@ Pipeline::~Pipeline() = default;
 Pipeline::Pipeline(Pipeline&&) noexcept = default;
 Pipeline& Pipeline::operator=(Pipeline&&) noexcept = default;
 
-const FrameResult& Pipeline::process(const PointCloud& cloud) {
+const FrameResult& Pipeline::process(const PointCloud& cloud) { return process(PointView(cloud)); }
+
+const FrameResult& Pipeline::process(const PointView& cloud) {
   FrameResult& r = result_;
   r.markers.clear();
   r.pose.reset();

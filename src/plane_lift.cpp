@@ -61,7 +61,7 @@ PolygonFrame polygon_frame(const ImageGeometry& g) {
 // Points of the observed pixels inside `polygon` but not inside `excluded` (may be empty); both
 // in the frame's uniform coordinates.
 std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon, const ProjectedImage& image,
-                                const PointCloud& cloud, const PolygonFrame& frame,
+                                const PointView& cloud, const PolygonFrame& frame,
                                 const std::vector<Vec2>& excluded = {}) {
   std::vector<Vec3> points;
   if (polygon.size() < 3) return points;
@@ -139,7 +139,7 @@ std::vector<Vec2> scaled_about_centre(const std::vector<Vec2>& polygon, double s
 }  // namespace
 
 Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                       const PointCloud& cloud, const PlaneFitOptions& options) {
+                       const PointView& cloud, const PlaneFitOptions& options) {
   const PolygonFrame frame = polygon_frame(image.geometry);
   std::vector<Vec2> polygon;
   for (const Vec2& px : polygon_px) polygon.push_back(map_pixel(px, image.geometry, frame.uniform));

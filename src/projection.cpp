@@ -93,6 +93,10 @@ bool inside(const AngularBounds& outer, const AngularBounds& inner) {
 }  // namespace
 
 void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
+  project(PointView(cloud), out);
+}
+
+void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   const std::size_t n = cloud.size();
   azimuth_.resize(n);
   elevation_.resize(n);
@@ -100,9 +104,7 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
 
   // Pass 1: spherical coordinates (paper Eq. 1) and the cloud's angular extent, in a loop the
   // compiler can vectorise.
-  const float* xs = cloud.x.data();
-  const float* ys = cloud.y.data();
-  const float* zs = cloud.z.data();
+  const StridedColumn<float> xs = cloud.x, ys = cloud.y, zs = cloud.z;
   float az_min = 10, az_max = -10, el_min = 10, el_max = -10;
   for (std::size_t i = 0; i < n; ++i) {
     const float x = xs[i], y = ys[i], z = zs[i];

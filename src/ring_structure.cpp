@@ -37,10 +37,11 @@ double RingStructure::mean_spacing() const {
   return (elevation.front() - elevation.back()) / static_cast<double>(elevation.size() - 1);
 }
 
-std::optional<RingStructure> rings_from_field(const PointCloud& cloud, const float* elevation) {
+std::optional<RingStructure> rings_from_field(const PointView& cloud, const float* elevation) {
   if (!cloud.has_ring() || cloud.empty()) return std::nullopt;
   const std::size_t n = cloud.size(), stride = sample_stride(n);
-  const std::uint16_t max_ring = *std::max_element(cloud.ring.begin(), cloud.ring.end());
+  std::uint16_t max_ring = 0;
+  for (std::size_t i = 0; i < n; ++i) max_ring = std::max(max_ring, cloud.ring[i]);
   if (max_ring >= 4096) return std::nullopt;
   const std::size_t ring_ids = static_cast<std::size_t>(max_ring) + 1;
 

@@ -67,7 +67,7 @@ struct PlaneFitOptions {
 // holding one point contributes that point; a pixel holding several contributes its mean range
 // along the pixel-centre ray, which is where a locally planar surface crosses that ray.
 Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,
-                       const PointCloud& cloud, const PlaneFitOptions& options = {});
+                       const PointView& cloud, const PlaneFitOptions& options = {});
 
 // Where the ray through a sub-pixel keypoint meets the plane. Status: kObserved when the
 // keypoint's pixel holds points, kInterpolated when not, kUnrecoverable when the plane is not

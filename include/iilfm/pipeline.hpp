@@ -79,6 +79,9 @@ class Pipeline {
 
   // Runs every stage on `cloud`. The returned reference stays valid until the next call.
   const FrameResult& process(const PointCloud& cloud);
+  // The same over points in any layout, read in place; they must outlive the returned result's
+  // use (its pixel->point index refers to them).
+  const FrameResult& process(const PointView& points);
 
   const PipelineOptions& options() const { return options_; }
 

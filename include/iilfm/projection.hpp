@@ -107,6 +107,8 @@ class SphericalProjector {
 
   // Fills `out` (buffers are reused when sizes match). InputError if the image would be too large.
   void project(const PointCloud& cloud, ProjectedImage& out);
+  // The same over points in any layout (e.g. a caller's interleaved array), without copying them.
+  void project(const PointView& points, ProjectedImage& out);
 
   const ProjectionOptions& options() const { return options_; }
 

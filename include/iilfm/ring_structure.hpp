@@ -27,7 +27,7 @@ struct RingStructure {
 // Rings from the cloud's ring field, given each point's elevation (radians). std::nullopt when the
 // cloud has no ring field, or when its rings are not cones of near-constant elevation (Livox
 // "line" numbers, a cloud transformed out of the sensor frame): then rows must stay uniform.
-std::optional<RingStructure> rings_from_field(const PointCloud& cloud, const float* elevation);
+std::optional<RingStructure> rings_from_field(const PointView& cloud, const float* elevation);
 
 // Rings from the elevations alone: points concentrated in narrow, well separated elevation bands,
 // as a spinning LiDAR's are. std::nullopt for anything else (a Livox rosette, a dense mesh).

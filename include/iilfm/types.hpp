@@ -54,6 +54,43 @@ struct PointCloud {
   Vec3 point(std::size_t i) const { return Vec3(x[i], y[i], z[i]); }
 };
 
+// One field of points held elsewhere: element i is data[i * stride] (stride in elements, not
+// bytes), so a column of a PointCloud (stride 1) and a column of an interleaved N x K array
+// (stride K) read alike.
+template <typename T>
+struct StridedColumn {
+  const T* data = nullptr;
+  std::ptrdiff_t stride = 1;
+
+  T operator[](std::size_t i) const { return data[static_cast<std::ptrdiff_t>(i) * stride]; }
+  explicit operator bool() const { return data != nullptr; }
+};
+
+// A read-only view of points the caller owns, in any layout: structure of arrays (a PointCloud) or
+// rows of an interleaved array, as numpy hands them over. The projection and the plane lifting
+// read points through it, so a caller's buffer is used without copying. The viewed memory must
+// outlive every use of the view and of results that index into it.
+struct PointView {
+  StridedColumn<float> x, y, z, intensity;
+  StridedColumn<std::uint16_t> ring;  // empty (null) when the source has no ring field
+  std::size_t count = 0;
+
+  PointView() = default;
+  PointView(const PointCloud& cloud)  // NOLINT(google-explicit-constructor): a cloud is a view
+      : x{cloud.x.data(), 1},
+        y{cloud.y.data(), 1},
+        z{cloud.z.data(), 1},
+        intensity{cloud.intensity.data(), 1},
+        ring{cloud.has_ring() ? cloud.ring.data() : nullptr, 1},
+        count(cloud.size()) {}
+  PointView(PointCloud&&) = delete;  // a view of a temporary would dangle
+
+  std::size_t size() const { return count; }
+  bool empty() const { return count == 0; }
+  bool has_ring() const { return static_cast<bool>(ring); }
+  Vec3 point(std::size_t i) const { return Vec3(x[i], y[i], z[i]); }
+};
+
 // What a reader saw while loading: every point in the file, and the ones it kept.
 struct CloudStats {
   std::size_t points_in_file = 0;  // points the file declares and holds

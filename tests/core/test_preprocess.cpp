@@ -32,6 +32,33 @@ TEST(Preprocess, NaiveThresholdBinarisesAndFillsHolesFromNeighbours) {
   EXPECT_EQ(out.gray.at<uchar>(3, 16), 255);     // 99th percentile maps to 255
 }
 
+// A dim checkerboard (black 5, white 30: far, or dark paper) beside a bright wall (120): the global
+// threshold 40 makes the whole board black; the local one keeps its cells and leaves the flat
+// wall to the global threshold.
+TEST(Preprocess, LocalThresholdKeepsADimPatternAndLeavesFlatRegionsGlobal) {
+  ProjectedImage img;
+  img.intensity = cv::Mat(40, 80, CV_32F, cv::Scalar(120));
+  for (int r = 0; r < 40; ++r)
+    for (int c = 0; c < 40; ++c) img.intensity.at<float>(r, c) = ((r / 5 + c / 5) % 2) ? 30 : 5;
+  img.mask = cv::Mat(40, 80, CV_8U, cv::Scalar(255));
+  img.range = cv::Mat(40, 80, CV_32F, cv::Scalar(2));
+  PreprocessOptions opt;
+  opt.threshold = 40;
+  PreprocessedImage global, local;
+  preprocess(img, opt, global);
+  opt.local_threshold = true;
+  preprocess(img, opt, local);
+  const cv::Rect board(0, 0, 40, 40), wall(50, 0, 30, 40);
+  EXPECT_EQ(cv::countNonZero(global.detect(board)), 0);
+  // About half the board's cells white (those whose window spans both levels), the wall white.
+  const int white = cv::countNonZero(local.detect(board));
+  EXPECT_GT(white, 40 * 40 * 4 / 10);
+  EXPECT_LT(white, 40 * 40 * 6 / 10);
+  EXPECT_EQ(local.detect.at<uchar>(12, 7), 255);  // a 30 cell
+  EXPECT_EQ(local.detect.at<uchar>(12, 12), 0);   // a 5 cell
+  EXPECT_EQ(cv::countNonZero(local.detect(wall)), 30 * 40);
+}
+
 TEST(Preprocess, UnfilledHolesTakeTheUnobservedValue) {
   PreprocessOptions opt;
   opt.threshold = 60;

@@ -1,0 +1,173 @@
+"""Pipeline.detect gives what `iilfm detect --json` gives, from every accepted input layout."""
+
+import numpy as np
+import pytest
+
+import iilfm
+
+
+def assert_same_as_cli(result, cli):
+    got = result.to_json()
+    assert [(m["family"], m["id"]) for m in got["markers"]] == \
+        [(m["family"], m["id"]) for m in cli["markers"]]
+    for mine, theirs in zip(got["markers"], cli["markers"]):
+        np.testing.assert_allclose(mine["corners_px"], theirs["corners_px"], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(mine["corners_lidar"], theirs["corners_lidar"], rtol=0,
+                                   atol=1e-9)
+        assert mine["observed"] == theirs["observed"]
+        np.testing.assert_allclose(mine["T_lidar_marker"], theirs["T_lidar_marker"], rtol=0,
+                                   atol=1e-9)
+    np.testing.assert_allclose(got["pose"]["T_world_lidar"], cli["pose"]["T_world_lidar"],
+                               rtol=0, atol=1e-9)
+    assert got["pose"]["markers_used"] == cli["pose"]["markers_used"]
+    assert got["image"] == cli["image"]
+    # The numpy arrays hold the unrounded values the JSON rounds (1e-4 px, 1e-6 m).
+    for m, theirs in zip(result.markers, cli["markers"]):
+        np.testing.assert_allclose(m.corners_px, theirs["corners_px"], rtol=0, atol=0.6e-4)
+        np.testing.assert_allclose(m.corners_lidar, theirs["corners_lidar"], rtol=0, atol=0.6e-6)
+        assert m.corners_px.shape == (4, 2) and m.corners_lidar.shape == (4, 3)
+        assert m.T_lidar_marker.shape == (4, 4)
+    np.testing.assert_allclose(result.pose.T_world_lidar, cli["pose"]["T_world_lidar"], atol=1e-9)
+
+
+@pytest.fixture(scope="module")
+def pipeline(scan):
+    return iilfm.Pipeline(sensor="mid40", map=scan["map"])
+
+
+def test_cloud_from_file_matches_the_cli(scan, pipeline):
+    assert len(scan["json"]["markers"]) >= 10  # many of the grid's 35 tags
+    cloud = iilfm.read_cloud(scan["pcd"])
+    result = pipeline.detect(cloud)
+    assert_same_as_cli(result, scan["json"])
+    assert result.input["copied"] is False
+    assert result.input["path"] == scan["pcd"]
+    assert result.to_json()["input"]["points"] == scan["json"]["input"]["points"]
+
+
+@pytest.mark.parametrize("layout", ["c", "fortran", "wide", "columns", "float64", "columns64"])
+def test_every_layout_matches_the_cli(scan, pipeline, layout):
+    xyzi = iilfm.read_cloud(scan["pcd"]).xyzi()
+    points = {
+        "c": xyzi,
+        "fortran": np.asfortranarray(xyzi),
+        "wide": np.hstack([xyzi, np.ones((len(xyzi), 2), np.float32)]),
+        "columns": {"x": xyzi[:, 0].copy(), "y": xyzi[:, 1].copy(), "z": xyzi[:, 2].copy(),
+                    "intensity": xyzi[:, 3].copy()},
+        "float64": xyzi.astype(np.float64),
+        "columns64": {k: xyzi[:, i].astype(np.float64) for i, k in
+                      enumerate(["x", "y", "z", "intensity"])},
+    }[layout]
+    result = pipeline.detect(points)
+    assert_same_as_cli(result, scan["json"])
+    assert result.input["copied"] is layout.endswith("64")
+
+
+def address(a):
+    return a.__array_interface__["data"][0]
+
+
+def test_float32_rows_are_read_in_place(scan, pipeline):
+    xyzi = iilfm.read_cloud(scan["pcd"]).xyzi()
+    assert xyzi.flags.c_contiguous and xyzi.dtype == np.float32
+    result = pipeline.detect(xyzi)
+    assert result.input["copied"] is False
+    assert pipeline._last_x_address() == address(xyzi)
+    # Any float32 strides: a column-major array and every other row of a wider one.
+    fortran = np.asfortranarray(xyzi)
+    pipeline.detect(fortran)
+    assert pipeline._last_x_address() == address(fortran)
+    wide = np.zeros((2 * len(xyzi), 6), np.float32)
+    wide[::2, :4] = xyzi
+    every_other = wide[::2]
+    result = pipeline.detect(every_other)
+    assert result.input["copied"] is False
+    assert pipeline._last_x_address() == address(wide)
+    # Columns and clouds from read_cloud too; a float64 array is converted once.
+    columns = {k: np.ascontiguousarray(xyzi[:, i]) for i, k in
+               enumerate(["x", "y", "z", "intensity"])}
+    pipeline.detect(columns)
+    assert pipeline._last_x_address() == address(columns["x"])
+    cloud = iilfm.read_cloud(scan["pcd"])
+    pipeline.detect(cloud)
+    assert pipeline._last_x_address() == address(cloud.x)
+    as64 = xyzi.astype(np.float64)
+    assert pipeline.detect(as64).input["copied"] is True
+    assert pipeline._last_x_address() != address(as64)
+
+
+def test_invalid_points_are_skipped_and_counted(scan, pipeline):
+    xyzi = iilfm.read_cloud(scan["pcd"]).xyzi()
+    bad = np.array([[np.nan, 1, 1, 5], [0, 0, 0, 9], [1, np.inf, 1, 5], [1, 1, 1, np.nan]],
+                   np.float32)
+    mixed = np.vstack([bad[:2], xyzi[:1000], bad[2:], xyzi[1000:]])
+    result = pipeline.detect(mixed)
+    assert result.input["copied"] is True
+    assert (result.input["points"], result.input["valid_points"]) == (len(mixed), len(xyzi))
+    assert (result.input["non_finite"], result.input["zero"]) == (3, 1)
+    assert_same_as_cli(result, scan["json"])
+    # The index image names rows of the caller's array, not of the internal copy.
+    index = result.index_image
+    rows = index[index >= 0]
+    assert rows.min() >= 2 and not np.isin(rows, [0, 1, 1002, 1003]).any()
+    clean = pipeline.detect(xyzi).index_image
+    expected = np.where(clean >= 1000, clean + 4, np.where(clean >= 0, clean + 2, -1))
+    np.testing.assert_array_equal(index, expected)
+
+
+def test_images_are_arrays(scan, pipeline):
+    result = pipeline.detect(iilfm.read_cloud(scan["pcd"]))
+    h, w = scan["json"]["image"]["height"], scan["json"]["image"]["width"]
+    for name, dtype in [("intensity_image", np.float32), ("range_image", np.float32),
+                        ("mask", np.uint8), ("index_image", np.int32), ("gray_image", np.uint8),
+                        ("detect_image", np.uint8)]:
+        image = getattr(result, name)
+        assert image.shape == (h, w) and image.dtype == dtype, name
+    assert (result.mask > 0).sum() == scan["json"]["image"]["observed_pixels"]
+    # The range at an observed corner pixel is that corner's distance (2 cm noise, mean of hits).
+    m = result.markers[0]
+    for (u, v), p, seen in zip(m.corners_px, m.corners_lidar, m.observed):
+        if seen:
+            assert abs(result.range_image[round(v), round(u)] - np.linalg.norm(p)) < 0.1
+    overlay = result.overlay()
+    assert overlay.ndim == 3 and overlay.shape[2] == 3 and overlay.shape[1] >= w
+    # Images survive the next detect() (the pipeline reuses its buffers).
+    before = result.intensity_image.copy()
+    pipeline.detect(iilfm.read_cloud(scan["pcd"]).xyzi()[::3].copy())
+    np.testing.assert_array_equal(result.intensity_image, before)
+
+
+def test_pose_and_marker_values(scan, pipeline):
+    result = pipeline.detect(iilfm.read_cloud(scan["pcd"]))
+    pose = result.pose
+    cli = scan["json"]["pose"]
+    np.testing.assert_allclose(pose.xyz, cli["xyz"], atol=1e-6)
+    np.testing.assert_allclose(pose.quat_xyzw, cli["quat_xyzw"], atol=1e-6)
+    np.testing.assert_allclose(pose.rpy_deg, cli["rpy_deg"], atol=1e-5)
+    assert pose.rms == pytest.approx(cli["rms_m"], abs=1e-6)
+    # T_world_lidar maps each marker's lifted corners onto its map corners (within the rms).
+    T = pose.T_world_lidar
+    assert np.allclose(T[3], [0, 0, 0, 1]) and np.allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3))
+    assert result.pose_missing_reason == ""
+    no_map = iilfm.Pipeline(sensor="mid40").detect(iilfm.read_cloud(scan["pcd"]))
+    assert no_map.pose is None and no_map.pose_missing_reason == "no marker map given"
+    assert all(m.T_lidar_marker is None for m in no_map.markers)
+
+
+def test_paths_and_the_html_report(scan, pipeline, tmp_path):
+    from pathlib import Path
+    result = pipeline.detect(iilfm.read_cloud(Path(scan["pcd"])))
+    page = tmp_path / "report.html"
+    result.write_html(page, title="python <report>", max_points=5000)
+    text = page.read_text()
+    assert text.startswith("<!doctype html>") and "<title>python &lt;report&gt;</title>" in text
+    import json
+    import re
+    data = json.loads(re.search(r'<script id="iilfm-data" type="application/json">(.*?)</script>',
+                                text, re.S).group(1).replace("<\\/", "</"))
+    frame = data["frames"][0]
+    assert [m["id"] for m in frame["markers"]] == [m["id"] for m in scan["json"]["markers"]]
+    assert frame["cloud"]["shown"] <= 5000 and frame["cloud"]["total"] == len(
+        iilfm.read_cloud(scan["pcd"]))
+    assert "Three.js Authors" in text  # the MIT notice stays in the bundle
+    assert frame["overlay_image"].startswith("data:image/jpeg;base64,")
