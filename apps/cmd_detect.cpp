@@ -14,6 +14,7 @@
 #include "iilfm/error.hpp"
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/io/frame_source.hpp"
+#include "iilfm/option_names.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
@@ -88,24 +89,12 @@ io::LoadedCloud load_input(const DetectArgs& args) {
   return total;
 }
 
-ArucoRefine aruco_refine(const std::string& name) {
-  if (name == "none") return ArucoRefine::kNone;
-  if (name == "subpixel") return ArucoRefine::kSubpixel;
-  if (name == "contour") return ArucoRefine::kContour;
-  if (name == "apriltag") return ArucoRefine::kAprilTag;
-  throw InputError("--aruco-refine must be none, subpixel, contour or apriltag, got '" + name +
-                   "'");
-}
-
 // Without a preset or both resolutions, they come from the cloud (`estimated` says so).
 PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud,
                                  std::optional<ResolutionEstimate>& estimated) {
   PipelineOptions options;
-  std::optional<double> threshold;
   if (!args.sensor.empty()) {
-    const SensorPreset& preset = find_sensor_preset(args.sensor);
-    apply_sensor_preset(preset, options);
-    threshold = preset.threshold;
+    apply_sensor_preset(find_sensor_preset(args.sensor), options);
   } else if (args.res_h <= 0 || args.res_v <= 0) {
     try {
       estimated = estimate_resolution(cloud);
@@ -119,39 +108,14 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   if (args.res_h > 0) options.projection.res_h_deg = args.res_h;
   if (args.res_v > 0) options.projection.res_v_deg = args.res_v;
 
-  if (args.threshold == "otsu") {
-    threshold.reset();
-  } else if (args.threshold == "local") {
-    options.preprocess.local_threshold = true;  // flat regions: the preset's or Otsu's
-  } else if (!args.threshold.empty()) {
-    char* end = nullptr;
-    const double t = std::strtod(args.threshold.c_str(), &end);
-    if (end == args.threshold.c_str() || *end != '\0' || !std::isfinite(t))
-      throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + args.threshold +
-                       "'");
-    threshold = t;
-  }
-  options.preprocess.threshold = threshold;
+  set_threshold(args.threshold, options);
   options.preprocess.binarize = !args.gray_input;
   options.preprocess.blur_sigma = args.blur;
 
-  if (args.rows == "uniform")
-    options.projection.rows = RowLayout::kUniform;
-  else if (args.rows == "rings")
-    options.projection.rows = RowLayout::kRings;
-  else if (!args.rows.empty())
-    throw InputError("--rows must be 'uniform' or 'rings', got '" + args.rows + "'");
+  set_rows(args.rows, options);
   options.preprocess.square_pixels = !args.no_square_pixels;
-
-  if (args.collision == "nearest")
-    options.projection.collision = CollisionPolicy::kNearest;
-  else if (args.collision != "mean")
-    throw InputError("--collision must be 'mean' or 'nearest', got '" + args.collision + "'");
-  if (args.lift == "paper") {
-    options.lift = LiftMethod::kPaper;
-    options.fit_known_size = false;  // the paper's four corners, as lifted
-  } else if (args.lift != "plane")
-    throw InputError("--lift must be 'plane' or 'paper', got '" + args.lift + "'");
+  set_collision(args.collision, options);
+  set_lift(args.lift, options);
 
   if (!args.markers.empty()) options.families = args.markers;
   options.detector.apriltag.decimate = args.decimate;
@@ -159,7 +123,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.refine_edges = !args.no_refine_edges;
   options.detector.apriltag.threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
-  options.detector.aruco.refine = aruco_refine(args.aruco_refine);
+  options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;
   options.detector.aruco.window_max = args.aruco_window_max;
   options.detector.aruco.window_step = args.aruco_window_step;
@@ -265,15 +229,7 @@ int run_detect(const DetectArgs& args) {
     if (!file || !(file << text) || !file.flush())
       throw file_error(args.json_path, "cannot write JSON");
   }
-  if (!args.image_path.empty()) {
-    bool written = false;
-    try {
-      written = cv::imwrite(args.image_path, draw_overlay(result));
-    } catch (const cv::Exception&) {
-      written = false;
-    }
-    if (!written) throw file_error(args.image_path, "cannot write image (use a .png path)");
-  }
+  if (!args.image_path.empty()) write_overlay(args.image_path, result);
   if (!args.html_path.empty())
     write_html_report(args.html_path, {HtmlFrame{&result, info, PointView(loaded.cloud)}});
   if (!args.quiet) print_summary(result, loaded, std::cout);
@@ -288,8 +244,8 @@ Runner register_detect_command(CLI::App& app) {
                                      "Detect markers in a point cloud and estimate the "
                                      "LiDAR pose");
   cmd->add_option("input", args->input,
-                  "Cloud file (.pcd, .bin, .ply, .txt), folder of them, or bag (.bag, ROS 2 "
-                  "folder, .db3)")
+                  "Cloud file (.pcd, .bin, .ply, .txt), folder of them, bag (.bag, ROS 2 "
+                  "folder, .db3), or an intensity image (.png: 2-D stages only)")
       ->required();
   cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
   cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");

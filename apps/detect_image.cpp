@@ -87,15 +87,7 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
     if (!file || !(file << j.dump(2) << "\n") || !file.flush())
       throw file_error(args.json_path, "cannot write JSON");
   }
-  if (!args.image_path.empty()) {
-    bool written = false;
-    try {
-      written = cv::imwrite(args.image_path, draw_overlay(result));
-    } catch (const cv::Exception&) {
-      written = false;
-    }
-    if (!written) throw file_error(args.image_path, "cannot write image (use a .png path)");
-  }
+  if (!args.image_path.empty()) write_overlay(args.image_path, result);
   if (!args.quiet) {
     std::cout << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
               << result.preprocessed.threshold << "\n"

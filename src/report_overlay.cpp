@@ -1,8 +1,10 @@
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "iilfm/error.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
 
@@ -63,6 +65,16 @@ cv::Mat draw_overlay(const FrameResult& result) {
                 cv::LINE_AA);
   }
   return canvas;
+}
+
+void write_overlay(const std::string& path, const FrameResult& result) {
+  bool written = false;
+  try {
+    written = cv::imwrite(path, draw_overlay(result));
+  } catch (const cv::Exception&) {
+    written = false;
+  }
+  if (!written) throw file_error(path, "cannot write image (use a .png path)");
 }
 
 }  // namespace iilfm

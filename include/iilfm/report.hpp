@@ -24,4 +24,7 @@ nlohmann::json result_to_json(const FrameResult& result, const InputInfo& input)
 // (1 = top-left ... 4 = bottom-left) and id.
 cv::Mat draw_overlay(const FrameResult& result);
 
+// Writes draw_overlay's picture; InputError naming `path` when it cannot be written.
+void write_overlay(const std::string& path, const FrameResult& result);
+
 }  // namespace iilfm

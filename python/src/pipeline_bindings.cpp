@@ -9,6 +9,7 @@
 
 #include "bindings.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/option_names.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
@@ -42,23 +43,11 @@ void require_range(double value, double lo, double hi, const char* name) {
                      py::str(py::float_(value)).cast<std::string>());
 }
 
-ArucoRefine aruco_refine(const std::string& name) {
-  if (name == "none") return ArucoRefine::kNone;
-  if (name == "subpixel") return ArucoRefine::kSubpixel;
-  if (name == "contour") return ArucoRefine::kContour;
-  if (name == "apriltag") return ArucoRefine::kAprilTag;
-  throw InputError("--aruco-refine must be none, subpixel, contour or apriltag, got '" + name +
-                   "'");
-}
-
 // The same mapping and messages as `iilfm detect`'s options (apps/cmd_detect.cpp).
 PipelineOptions pipeline_options(const Options& a) {
   PipelineOptions options;
-  std::optional<double> threshold;
   if (a.sensor) {
-    const SensorPreset& preset = find_sensor_preset(*a.sensor);
-    apply_sensor_preset(preset, options);
-    threshold = preset.threshold;
+    apply_sensor_preset(find_sensor_preset(*a.sensor), options);
   } else if (!a.res_h || !a.res_v || *a.res_h <= 0 || *a.res_v <= 0) {
     throw InputError(
         "give --sensor PRESET or both --res-h and --res-v (degrees); `iilfm sensors` "
@@ -68,34 +57,19 @@ PipelineOptions pipeline_options(const Options& a) {
   if (a.res_v && *a.res_v > 0) options.projection.res_v_deg = *a.res_v;
 
   if (py::isinstance<py::str>(a.threshold)) {
-    const std::string t = a.threshold.cast<std::string>();
-    if (t == "local")
-      options.preprocess.local_threshold = true;  // flat regions: the preset's or Otsu's
-    else if (t == "otsu")
-      threshold.reset();
-    else
-      throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + t + "'");
+    set_threshold(a.threshold.cast<std::string>(), options);
   } else if (!a.threshold.is_none()) {
     const double t = a.threshold.cast<double>();
     if (!std::isfinite(t))
       throw InputError("--threshold must be a number, 'otsu' or 'local', got '" +
                        py::str(a.threshold).cast<std::string>() + "'");
-    threshold = t;
+    options.preprocess.threshold = t;
   }
-  options.preprocess.threshold = threshold;
   options.preprocess.binarize = !a.gray;
   options.preprocess.blur_sigma = a.blur;
 
-  if (a.collision == "nearest")
-    options.projection.collision = CollisionPolicy::kNearest;
-  else if (a.collision != "mean")
-    throw InputError("--collision must be 'mean' or 'nearest', got '" + a.collision + "'");
-  if (a.lift == "paper") {
-    options.lift = LiftMethod::kPaper;
-    options.fit_known_size = false;
-  } else if (a.lift != "plane") {
-    throw InputError("--lift must be 'plane' or 'paper', got '" + a.lift + "'");
-  }
+  set_collision(a.collision, options);
+  set_lift(a.lift, options);
 
   // The ranges `iilfm detect` enforces on these options.
   require_range(a.decimate, 1, 8, "--decimate");
@@ -111,7 +85,7 @@ PipelineOptions pipeline_options(const Options& a) {
   options.detector.apriltag.refine_edges = a.refine_edges;
   options.detector.apriltag.threads = a.threads;
   options.detector.apriltag.max_hamming = a.max_hamming;
-  options.detector.aruco.refine = aruco_refine(a.aruco_refine);
+  options.detector.aruco.refine = aruco_refine_named(a.aruco_refine);
   options.detector.aruco.window_min = a.aruco_window_min;
   options.detector.aruco.window_max = a.aruco_window_max;
   options.detector.aruco.window_step = a.aruco_window_step;

@@ -1,0 +1,27 @@
+// Option values by name, as `iilfm detect` and the Python module take them, with one error
+// message each, so both front ends accept the same words and say the same thing.
+#pragma once
+
+#include <string>
+
+#include "iilfm/pipeline.hpp"
+
+namespace iilfm {
+
+// "none", "subpixel", "contour", "apriltag".
+ArucoRefine aruco_refine_named(const std::string& name);
+
+// --collision: "mean" or "nearest".
+void set_collision(const std::string& name, PipelineOptions& options);
+
+// --rows: "uniform" or "rings"; empty keeps the current layout.
+void set_rows(const std::string& name, PipelineOptions& options);
+
+// --lift: "plane" or "paper" (the paper's four corners as lifted, no known-size square).
+void set_lift(const std::string& name, PipelineOptions& options);
+
+// --threshold as text: a number in intensity units, "otsu" or "local" (local mean where the image
+// has contrast, the preset's or Otsu's threshold elsewhere); empty keeps the current one.
+void set_threshold(const std::string& text, PipelineOptions& options);
+
+}  // namespace iilfm

@@ -1,0 +1,63 @@
+#include "iilfm/option_names.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "iilfm/error.hpp"
+
+namespace iilfm {
+
+ArucoRefine aruco_refine_named(const std::string& name) {
+  if (name == "none") return ArucoRefine::kNone;
+  if (name == "subpixel") return ArucoRefine::kSubpixel;
+  if (name == "contour") return ArucoRefine::kContour;
+  if (name == "apriltag") return ArucoRefine::kAprilTag;
+  throw InputError("--aruco-refine must be none, subpixel, contour or apriltag, got '" + name +
+                   "'");
+}
+
+void set_collision(const std::string& name, PipelineOptions& options) {
+  if (name == "nearest")
+    options.projection.collision = CollisionPolicy::kNearest;
+  else if (name == "mean")
+    options.projection.collision = CollisionPolicy::kMean;
+  else
+    throw InputError("--collision must be 'mean' or 'nearest', got '" + name + "'");
+}
+
+void set_rows(const std::string& name, PipelineOptions& options) {
+  if (name == "uniform")
+    options.projection.rows = RowLayout::kUniform;
+  else if (name == "rings")
+    options.projection.rows = RowLayout::kRings;
+  else if (!name.empty())
+    throw InputError("--rows must be 'uniform' or 'rings', got '" + name + "'");
+}
+
+void set_lift(const std::string& name, PipelineOptions& options) {
+  if (name == "paper") {
+    options.lift = LiftMethod::kPaper;
+    options.fit_known_size = false;  // the paper's four corners, as lifted
+  } else if (name == "plane") {
+    options.lift = LiftMethod::kPlane;
+  } else {
+    throw InputError("--lift must be 'plane' or 'paper', got '" + name + "'");
+  }
+}
+
+void set_threshold(const std::string& text, PipelineOptions& options) {
+  if (text.empty()) return;
+  if (text == "otsu") {
+    options.preprocess.threshold.reset();
+  } else if (text == "local") {
+    options.preprocess.local_threshold = true;
+  } else {
+    char* end = nullptr;
+    const double t = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !std::isfinite(t))
+      throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + text + "'");
+    options.preprocess.threshold = t;
+  }
+}
+
+}  // namespace iilfm
