@@ -338,7 +338,8 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
   const CommandRun both = run_cli("detect " + d.string() + " --sensor vlp16 --jsonl " +
                                   jsonl.string() + " --json " + one.string());
   EXPECT_EQ(both.status, 2);
-  EXPECT_NE(both.err.find("take one cloud; a sequence writes --jsonl"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("take one cloud; a sequence writes --jsonl"), std::string::npos)
+      << both.err;
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ TEST(DetectionRange, RingRowsFindAMarkerThePaperSettingsMissOnTheUltraPuck) {
   EXPECT_EQ(r[0].max_distance_m, 0.0);
   EXPECT_EQ(r[0].false_positives + r[1].false_positives, 0);
   const std::string table = range_table_markdown(r);
-  EXPECT_NE(table.find("| ultrapuck | 0.4 m | - | 1.0-1.0 m | new | 0 |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| ultrapuck | 0.4 m | - | 1.0-1.0 m | new | 0 |"), std::string::npos)
+      << table;
 }
 
 // On the VLP-16 the limit is geometric: a tag36h11 needs a ring per cell row, and both settings
