@@ -12,14 +12,15 @@ TEST(DetectionRange, RingRowsFindAMarkerThePaperSettingsMissOnTheUltraPuck) {
   query.sensor = "ultrapuck";
   query.marker_size_m = 0.4;
   query.distances = {1.0};
+  query.seeds = query.required = 5;  // the footprint's 25 sub-rays a beam are slow under ASan
   const std::vector<RangeResult> r =
       detection_range(query, {RangeSettings::kPaper, RangeSettings::kIilfm});
   ASSERT_EQ(r.size(), 2u);
   ASSERT_EQ(r[0].found.size(), 1u);
   ASSERT_EQ(r[1].found.size(), 1u);
-  // Measured: paper settings 0 of 10, iilfm 10 of 10, no false positive.
-  EXPECT_LE(r[0].found[0].second, 2);
-  EXPECT_GE(r[1].found[0].second, 9);
+  // Measured with 10 seeds: paper settings 0 of 10, iilfm 10 of 10, no false positive.
+  EXPECT_LE(r[0].found[0].second, 1);
+  EXPECT_EQ(r[1].found[0].second, 5);
   EXPECT_EQ(r[1].max_distance_m, 1.0);
   EXPECT_EQ(r[0].max_distance_m, 0.0);
   EXPECT_EQ(r[0].false_positives + r[1].false_positives, 0);
@@ -35,6 +36,7 @@ TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   query.sensor = "vlp16";
   query.marker_size_m = 0.4;
   query.distances = {1.0, 2.0, 2.5};
+  query.footprint = false;
   const std::vector<RangeResult> r = detection_range(query, {RangeSettings::kIilfm});
   ASSERT_EQ(r.size(), 1u);
   EXPECT_EQ(r[0].max_distance_m, 1.0);
