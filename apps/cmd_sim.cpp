@@ -58,28 +58,21 @@ std::string joined(const std::vector<std::string>& names) {
   return text;
 }
 
-// The optional physics of SimOptions (all off unless asked for).
-void apply_physics_switches(const SimArgs& a, sim::SimOptions& options) {
-  options.footprint = a.footprint;
-  require(a.footprint_samples >= 1 && a.footprint_samples <= 50,
-          "--footprint-samples must be 1..50");
-  options.footprint_samples = a.footprint_samples;
-  auto probability = [](double p) { return p >= 0 && p <= 1; };
-  require(probability(a.dark_dropout), "--dark-dropout must be a probability in [0, 1]");
-  options.dark_dropout = a.dark_dropout;
-  require(probability(a.invalid_fraction), "--invalid-fraction must be a fraction in [0, 1]");
-  options.invalid_fraction = a.invalid_fraction;
-  require(a.invalid_as == "nan" || a.invalid_as == "zero", "--invalid-as must be nan or zero");
-  options.invalid_as =
-      a.invalid_as == "nan" ? sim::SimOptions::Invalid::kNaN : sim::SimOptions::Invalid::kZero;
-  if (a.min_range_opt->count()) {
-    require(a.min_range >= 0 && std::isfinite(a.min_range),
-            "--min-range must be a non-negative number of metres");
-    options.min_range_m = a.min_range;
-  }
+// The noise and physics flags; unset ones keep the sensor's defaults.
+sim::PhysicsRequest physics_request(const SimArgs& a) {
+  sim::PhysicsRequest r;
+  if (a.range_sigma_opt->count()) r.range_sigma_m = a.range_sigma;
+  if (a.intensity_sigma_opt->count()) r.intensity_sigma = a.intensity_sigma;
+  if (a.min_range_opt->count()) r.min_range_m = a.min_range;
+  r.angle_sigma_deg = a.angle_sigma;
+  r.footprint = a.footprint;
+  r.footprint_samples = a.footprint_samples;
+  r.dark_dropout = a.dark_dropout;
+  r.invalid_fraction = a.invalid_fraction;
+  r.invalid_as = a.invalid_as;
+  return r;
 }
 
-// A scene file describes everything the named scenes' parameters would change.
 sim::SceneSetup scene_from_file(const SimArgs& a) {
   for (const CLI::Option* o : {a.scene_opt, a.family_opt, a.id_opt, a.size_opt, a.distance_opt}) {
     require(o->count() == 0, o->get_name() + " does not apply with --scene-file");
@@ -125,20 +118,7 @@ int run_sim(const SimArgs& a) {
   options.frames = a.frames_opt->count() ? a.frames : default_frames;
   require(options.frames >= 1 && options.frames <= 100000, "--frames must be 1..100000");
   options.seed = a.seed;
-  if (a.range_sigma_opt->count()) {
-    require(a.range_sigma >= 0 && std::isfinite(a.range_sigma),
-            "--range-sigma must be a non-negative number of metres");
-    options.range_sigma_m = a.range_sigma;
-  }
-  if (a.intensity_sigma_opt->count()) {
-    require(a.intensity_sigma >= 0 && std::isfinite(a.intensity_sigma),
-            "--intensity-sigma must be non-negative");
-    options.intensity_sigma = a.intensity_sigma;
-  }
-  require(a.angle_sigma >= 0 && std::isfinite(a.angle_sigma),
-          "--angle-sigma must be a non-negative number of degrees");
-  options.angle_sigma_deg = a.angle_sigma;
-  apply_physics_switches(a, options);
+  sim::apply_physics(physics_request(a), options);
   if (!a.velocity.empty()) {
     require(all_finite(a.velocity), "--velocity needs three finite numbers in m/s");
     options.linear_velocity = Vec3(a.velocity[0], a.velocity[1], a.velocity[2]);

@@ -113,36 +113,17 @@ py::tuple simulate(const SimArgs& a) {
   options.frames = a.frames ? *a.frames : (sensor.pattern == sim::ScanPattern::kRosette ? 40 : 1);
   require(options.frames >= 1 && options.frames <= 100000, "--frames must be 1..100000");
   options.seed = a.seed;
-  if (a.range_sigma) {
-    require(*a.range_sigma >= 0 && std::isfinite(*a.range_sigma),
-            "--range-sigma must be a non-negative number of metres");
-    options.range_sigma_m = *a.range_sigma;
-  }
-  if (a.intensity_sigma) {
-    require(*a.intensity_sigma >= 0 && std::isfinite(*a.intensity_sigma),
-            "--intensity-sigma must be non-negative");
-    options.intensity_sigma = *a.intensity_sigma;
-  }
-  require(a.angle_sigma >= 0 && std::isfinite(a.angle_sigma),
-          "--angle-sigma must be a non-negative number of degrees");
-  options.angle_sigma_deg = a.angle_sigma;
-  options.footprint = a.footprint;
-  require(a.footprint_samples >= 1 && a.footprint_samples <= 50,
-          "--footprint-samples must be 1..50");
-  options.footprint_samples = a.footprint_samples;
-  auto probability = [](double p) { return p >= 0 && p <= 1; };
-  require(probability(a.dark_dropout), "--dark-dropout must be a probability in [0, 1]");
-  options.dark_dropout = a.dark_dropout;
-  require(probability(a.invalid_fraction), "--invalid-fraction must be a fraction in [0, 1]");
-  options.invalid_fraction = a.invalid_fraction;
-  require(a.invalid_as == "nan" || a.invalid_as == "zero", "--invalid-as must be nan or zero");
-  options.invalid_as =
-      a.invalid_as == "nan" ? sim::SimOptions::Invalid::kNaN : sim::SimOptions::Invalid::kZero;
-  if (a.min_range) {
-    require(*a.min_range >= 0 && std::isfinite(*a.min_range),
-            "--min-range must be a non-negative number of metres");
-    options.min_range_m = *a.min_range;
-  }
+  sim::PhysicsRequest physics;
+  physics.range_sigma_m = a.range_sigma;
+  physics.intensity_sigma = a.intensity_sigma;
+  physics.min_range_m = a.min_range;
+  physics.angle_sigma_deg = a.angle_sigma;
+  physics.footprint = a.footprint;
+  physics.footprint_samples = a.footprint_samples;
+  physics.dark_dropout = a.dark_dropout;
+  physics.invalid_fraction = a.invalid_fraction;
+  physics.invalid_as = a.invalid_as;
+  sim::apply_physics(physics, options);
 
   sim::SimResult result;
   {

@@ -3,6 +3,7 @@
 
 #include "iilfm/sim/ground_truth_io.hpp"
 #include "iilfm/sim/marker_texture.hpp"
+#include "iilfm/sim/physics_request.hpp"
 #include "iilfm/sim/scene.hpp"
 #include "iilfm/sim/scene_file.hpp"
 #include "iilfm/sim/scenes.hpp"
