@@ -1,6 +1,5 @@
 // The `iilfm` program as users run it: sim -> detect -> JSON, and one-line errors with exit 2.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -8,46 +7,20 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_run.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("iilfm_cli_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
-
-CommandRun run(const std::string& args) {
-  const fs::path out = temp_dir() / "stdout.txt", err = temp_dir() / "stderr.txt";
-  const std::string command = std::string(IILFM_CLI_PATH) + " " + args + " >" + out.string() +
-                              " 2>" + err.string() + " </dev/null";
-  const int raw = std::system(command.c_str());
-  CommandRun r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
+using iilfm::testing::cli_temp_dir;
+using iilfm::testing::CliRun;
+using iilfm::testing::run_cli;
+using iilfm::testing::slurp;
 
 // Bad input: exit 2, exactly one line on stderr that names `needle`, nothing on stdout.
 void expect_input_error(const std::string& args, const std::string& needle) {
-  const CommandRun r = run(args);
+  const CliRun r = run_cli(args);
   EXPECT_EQ(r.status, 2) << args << "\n" << r.err;
   ASSERT_FALSE(r.err.empty()) << args;
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line expected: " << r.err;
@@ -56,16 +29,16 @@ void expect_input_error(const std::string& args, const std::string& needle) {
 }
 
 TEST(Cli, SimThenDetectWritesTheContractJson) {
-  const fs::path d = temp_dir();
+  const fs::path d = cli_temp_dir();
   const std::string pcd = (d / "scan.pcd").string(), map = (d / "map.yaml").string(),
                     truth = (d / "truth.json").string(), json = (d / "out.json").string(),
                     png = (d / "out.png").string();
-  ASSERT_EQ(run("sim --scene tag-wall --frames 40 --seed 4 --out " + pcd + " --map " + map +
-                " --truth " + truth)
+  ASSERT_EQ(run_cli("sim --scene tag-wall --frames 40 --seed 4 --out " + pcd + " --map " + map +
+                    " --truth " + truth)
                 .status,
             0);
-  const CommandRun r =
-      run("detect " + pcd + " --sensor mid40 --map " + map + " --json " + json + " --image " + png);
+  const CliRun r = run_cli("detect " + pcd + " --sensor mid40 --map " + map + " --json " + json +
+                           " --image " + png);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("apriltag:tag36h11 id 0"), std::string::npos) << r.out;
   EXPECT_GT(fs::file_size(png), 1000u);
@@ -101,12 +74,13 @@ TEST(Cli, SimThenDetectWritesTheContractJson) {
 
 // No preset and no resolution: estimated from the cloud, said on stdout and in the JSON.
 TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
-  const fs::path d = temp_dir();
+  const fs::path d = cli_temp_dir();
   const std::string pcd = (d / "auto.pcd").string(), map = (d / "auto.yaml").string(),
                     json = (d / "auto.json").string();
-  ASSERT_EQ(run("sim --scene ccw10m --sensor ultrapuck --out " + pcd + " --map " + map).status, 0);
-  const CommandRun r =
-      run("detect " + pcd + " --marker apriltag:tag16h5 --map " + map + " --json " + json);
+  ASSERT_EQ(run_cli("sim --scene ccw10m --sensor ultrapuck --out " + pcd + " --map " + map).status,
+            0);
+  const CliRun r =
+      run_cli("detect " + pcd + " --marker apriltag:tag16h5 --map " + map + " --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("resolution estimated from the cloud (ring field)"), std::string::npos)
       << r.out;
@@ -120,10 +94,10 @@ TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
 }
 
 TEST(Cli, NoMapMeansPoseNullWithAReason) {
-  const fs::path d = temp_dir();
+  const fs::path d = cli_temp_dir();
   const std::string pcd = (d / "nomap.pcd").string(), json = (d / "nomap.json").string();
-  ASSERT_EQ(run("sim --scene tag-wall --frames 20 --out " + pcd).status, 0);
-  ASSERT_EQ(run("detect " + pcd + " --sensor mid40 -q --json " + json).status, 0);
+  ASSERT_EQ(run_cli("sim --scene tag-wall --frames 20 --out " + pcd).status, 0);
+  ASSERT_EQ(run_cli("detect " + pcd + " --sensor mid40 -q --json " + json).status, 0);
   const nlohmann::json j = nlohmann::json::parse(slurp(json));
   EXPECT_TRUE(j["pose"].is_null());
   EXPECT_EQ(j["pose_missing_reason"], "no marker map given");
@@ -131,7 +105,7 @@ TEST(Cli, NoMapMeansPoseNullWithAReason) {
 }
 
 TEST(Cli, BadInputGivesOneLineAndExitTwo) {
-  const fs::path d = temp_dir();
+  const fs::path d = cli_temp_dir();
   expect_input_error("detect /nonexistent/scan.pcd --sensor mid40", "/nonexistent/scan.pcd");
 
   const fs::path truncated = d / "truncated.pcd";
@@ -155,7 +129,7 @@ TEST(Cli, BadInputGivesOneLineAndExitTwo) {
   expect_input_error("detect " + nans.string() + " --sensor mid40", "1 non-finite, 1 zero");
 
   const std::string good = (d / "good.pcd").string();
-  ASSERT_EQ(run("sim --scene tag-wall --frames 5 --out " + good).status, 0);
+  ASSERT_EQ(run_cli("sim --scene tag-wall --frames 5 --out " + good).status, 0);
   expect_input_error("detect " + good + " --sensor mid40 --marker apriltag:tag99h9", "tag99h9");
   expect_input_error("detect " + good + " --sensor mid40 --marker tag36h11", "apriltag:tag36h11");
   expect_input_error("detect " + good + " --sensor nosuch", "unknown sensor preset 'nosuch'");
@@ -176,7 +150,7 @@ TEST(Cli, BadInputGivesOneLineAndExitTwo) {
 }
 
 TEST(Cli, SensorsListsThePresets) {
-  const CommandRun r = run("sensors");
+  const CliRun r = run_cli("sensors");
   EXPECT_EQ(r.status, 0);
   for (const char* name : {"mid40", "vlp16", "vlp32c", "ultrapuck"})
     EXPECT_NE(r.out.find(name), std::string::npos) << name;

@@ -1,6 +1,5 @@
 // `iilfm detect IMAGE.png`: the 2-D stages on an intensity image a driver already projected.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_run.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "real_data.hpp"
 
@@ -18,26 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-CliRun run(const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / ("iilfm_image_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const std::string command = std::string(IILFM_CLI_PATH) + " " + args + " >" +
-                              (dir / "out").string() + " 2>" + (dir / "err").string();
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / "out"), slurp(dir / "err")};
-}
+using testing::CliRun;
+using testing::run_cli;
+using testing::slurp;
 
 fs::path temp(const std::string& name) {
   return fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
@@ -62,7 +45,7 @@ TEST(ImageInput, TagInASquashedIntensityImageIsFoundWithPixelCornersOnly) {
   ASSERT_TRUE(cv::imwrite(png.string(), image));
 
   const CliRun r =
-      run("detect " + png.string() + " --res-h 0.35 --res-v 0.7 --json " + json.string());
+      run_cli("detect " + png.string() + " --res-h 0.35 --res-v 0.7 --json " + json.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("2-D stages only"), std::string::npos) << r.out;
   const nlohmann::json j = nlohmann::json::parse(slurp(json));
@@ -87,7 +70,7 @@ TEST(ImageInput, TagInASquashedIntensityImageIsFoundWithPixelCornersOnly) {
 TEST(ImageInput, NotAnImageIsAOneLineError) {
   const fs::path fake = temp("fake.png");
   std::ofstream(fake) << "not a png";
-  const CliRun r = run("detect " + fake.string());
+  const CliRun r = run_cli("detect " + fake.string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find(fake.string() + ": cannot read the image"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
@@ -103,7 +86,8 @@ TEST(ImageInput, RealOusterImageWithTheLocalThreshold) {
   if (!fs::exists(png)) GTEST_SKIP() << "no real data at " << png;
   const fs::path json = temp("ouster.json");
   for (const std::string options : {"--threshold local", "--sensor os1-64 --threshold local"}) {
-    const CliRun r = run("detect " + png.string() + " " + options + " -q --json " + json.string());
+    const CliRun r =
+        run_cli("detect " + png.string() + " " + options + " -q --json " + json.string());
     ASSERT_EQ(r.status, 0) << r.err;
     std::set<int> ids;
     const nlohmann::json result = nlohmann::json::parse(slurp(json));

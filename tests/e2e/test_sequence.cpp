@@ -2,7 +2,6 @@
 // writer (tests/tools/make_bags.py), then `iilfm detect BAG --topic ... --jsonl --tum` checked
 // against the simulator's ground-truth poses; damaged bags; `iilfm bag info`.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -12,46 +11,18 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_run.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct CommandRun {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("iilfm_seq_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
-
-int shell(const std::string& command) {
-  const int raw = std::system(command.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-}
-
-CommandRun run_cli(const std::string& args) {
-  const fs::path out = temp_dir() / "stdout.txt", err = temp_dir() / "stderr.txt";
-  CommandRun r;
-  r.status = shell(std::string(IILFM_CLI_PATH) + " " + args + " >" + out.string() + " 2>" +
-                   err.string() + " </dev/null");
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
+using iilfm::testing::cli_temp_dir;
+using iilfm::testing::CliRun;
+using iilfm::testing::run_cli;
+using iilfm::testing::shell;
+using iilfm::testing::slurp;
 
 std::string ros_python_missing() {
   if (shell("/usr/bin/python3 -c 'import rosbag, sensor_msgs.msg' >/dev/null 2>&1") != 0)
@@ -120,7 +91,7 @@ struct MovingRecording {
 const MovingRecording& moving_recording() {
   static MovingRecording rec = [] {
     MovingRecording r;
-    const fs::path d = temp_dir() / "moving";
+    const fs::path d = cli_temp_dir() / "moving";
     fs::create_directories(d);
     r.map = (d / "map.yaml").string();
     std::vector<std::string> pcds;
@@ -131,9 +102,8 @@ const MovingRecording& moving_recording() {
       std::snprintf(pose, sizeof pose, "--lidar-xyz %.3f %.3f %.3f --lidar-rpy %.2f %.2f %.2f",
                     1.6 + 0.06 * k, 0.15 - 0.04 * k, 0.47 + 0.01 * k, 0.2 * k, -1.0 + 0.3 * k,
                     k == kAway ? 180.0 : -4.0 + 1.5 * k);
-      const CommandRun sim =
-          run_cli("sim --sensor ultrapuck --seed " + std::to_string(k + 1) + " " + pose +
-                  " --out " + pcd + " --truth " + truth + " --map " + r.map);
+      const CliRun sim = run_cli("sim --sensor ultrapuck --seed " + std::to_string(k + 1) + " " +
+                                 pose + " --out " + pcd + " --truth " + truth + " --map " + r.map);
       if (sim.status != 0) throw std::runtime_error("sim failed: " + sim.err);
       pcds.push_back(pcd);
       r.truth.push_back(truth_pose(truth));
@@ -148,8 +118,8 @@ const MovingRecording& moving_recording() {
 TEST(Sequence, BagTrajectoryMatchesTheSimulatedPoses) {
   if (const std::string missing = ros_python_missing(); !missing.empty()) GTEST_SKIP() << missing;
   const MovingRecording& rec = moving_recording();
-  const fs::path jsonl = temp_dir() / "walk.jsonl", tum = temp_dir() / "walk.txt";
-  const CommandRun r =
+  const fs::path jsonl = cli_temp_dir() / "walk.jsonl", tum = cli_temp_dir() / "walk.txt";
+  const CliRun r =
       run_cli("detect " + rec.bag + " --topic /velodyne_points --sensor ultrapuck" + " --map " +
               rec.map + " --jsonl " + jsonl.string() + " --tum " + tum.string());
   ASSERT_EQ(r.status, 0) << r.err;
@@ -201,15 +171,15 @@ TEST(Sequence, TruncatedBagKeepsTheFramesBeforeTheCut) {
   if (const std::string missing = ros_python_missing(); !missing.empty()) GTEST_SKIP() << missing;
   const MovingRecording& rec = moving_recording();
   const std::string whole = slurp(rec.bag);
-  const fs::path cut = temp_dir() / "cut.bag", jsonl = temp_dir() / "cut.jsonl",
-                 tum = temp_dir() / "cut.txt";
+  const fs::path cut = cli_temp_dir() / "cut.bag", jsonl = cli_temp_dir() / "cut.jsonl",
+                 tum = cli_temp_dir() / "cut.txt";
   {
     std::ofstream out(cut, std::ios::binary);
     out.write(whole.data(), static_cast<std::streamsize>(whole.size() * 6 / 10));
   }
-  const CommandRun r = run_cli("detect " + cut.string() + " --topic /velodyne_points --sensor " +
-                               "ultrapuck --map " + rec.map + " --jsonl " + jsonl.string() +
-                               " --tum " + tum.string() + " --quiet");
+  const CliRun r = run_cli("detect " + cut.string() + " --topic /velodyne_points --sensor " +
+                           "ultrapuck --map " + rec.map + " --jsonl " + jsonl.string() + " --tum " +
+                           tum.string() + " --quiet");
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line expected: " << r.err;
   EXPECT_EQ(r.err.rfind("iilfm: " + cut.string() + ": ", 0), 0u) << r.err;
@@ -223,7 +193,7 @@ TEST(Sequence, TruncatedBagKeepsTheFramesBeforeTheCut) {
   EXPECT_EQ(read_tum(tum).size(), lines.size() - (lines.size() > kAway ? 1 : 0));
 
   // bag info lists what precedes the cut, then reports it.
-  const CommandRun info = run_cli("bag info " + cut.string());
+  const CliRun info = run_cli("bag info " + cut.string());
   EXPECT_EQ(info.status, 2);
   EXPECT_NE(info.out.find("/velodyne_points"), std::string::npos) << info.out;
   EXPECT_NE(info.err.find("cut off"), std::string::npos) << info.err;
@@ -232,18 +202,18 @@ TEST(Sequence, TruncatedBagKeepsTheFramesBeforeTheCut) {
 TEST(Sequence, BagErrorsNameTheTopics) {
   if (const std::string missing = ros_python_missing(); !missing.empty()) GTEST_SKIP() << missing;
   const MovingRecording& rec = moving_recording();
-  const CommandRun wrong = run_cli("detect " + rec.bag + " --topic /points --sensor ultrapuck");
+  const CliRun wrong = run_cli("detect " + rec.bag + " --topic /points --sensor ultrapuck");
   EXPECT_EQ(wrong.status, 2);
   EXPECT_NE(wrong.err.find(rec.bag + ": no topic '/points' (topics: /velodyne_points "
                                      "[sensor_msgs/PointCloud2])"),
             std::string::npos)
       << wrong.err;
-  const CommandRun none = run_cli("detect " + rec.bag + " --sensor ultrapuck");
+  const CliRun none = run_cli("detect " + rec.bag + " --sensor ultrapuck");
   EXPECT_EQ(none.status, 2);
   EXPECT_NE(none.err.find("needs --topic (point cloud topics: /velodyne_points)"),
             std::string::npos)
       << none.err;
-  const CommandRun info = run_cli("bag info " + rec.bag);
+  const CliRun info = run_cli("bag info " + rec.bag);
   ASSERT_EQ(info.status, 0) << info.err;
   EXPECT_NE(info.out.find("/velodyne_points  sensor_msgs/PointCloud2        8 msgs"),
             std::string::npos)
@@ -255,7 +225,7 @@ TEST(Sequence, BagErrorsNameTheTopics) {
 // (Ten frames find this off-centre marker only when it sits at the rosette's dense centre.)
 TEST(Sequence, SlidingWindowOfTwentyMid40Frames) {
   if (const std::string missing = ros_python_missing(); !missing.empty()) GTEST_SKIP() << missing;
-  const fs::path d = temp_dir() / "mid40";
+  const fs::path d = cli_temp_dir() / "mid40";
   fs::create_directories(d);
   const std::string pcd = (d / "all.pcd").string(), map = (d / "map.yaml").string(),
                     truth = (d / "truth.json").string(), bag = (d / "mid40.bag").string();
@@ -266,10 +236,10 @@ TEST(Sequence, SlidingWindowOfTwentyMid40Frames) {
             0);
   pcd_to_bag(bag, "/livox/lidar", "--split 0.1", {pcd});
   const fs::path jsonl = d / "out.jsonl", tum = d / "out.txt";
-  const CommandRun r = run_cli("detect " + bag +
-                               " --topic /livox/lidar --frames 20 --sensor mid40 "
-                               "--map " +
-                               map + " --jsonl " + jsonl.string() + " --tum " + tum.string());
+  const CliRun r = run_cli("detect " + bag +
+                           " --topic /livox/lidar --frames 20 --sensor mid40 "
+                           "--map " +
+                           map + " --jsonl " + jsonl.string() + " --tum " + tum.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const std::vector<json> lines = read_jsonl(jsonl);
   ASSERT_EQ(lines.size(), 5u);  // windows ending at frames 19..23
@@ -294,9 +264,9 @@ namespace {
 // A folder: alone with --frames N it still integrates the first N files into one result (the
 // single-cloud behaviour scripts rely on); with --jsonl every file is a frame.
 TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
-  const fs::path d = temp_dir() / "folder";
+  const fs::path d = cli_temp_dir() / "folder";
   fs::create_directories(d);
-  const fs::path map_file = temp_dir() / "folder_map.yaml";
+  const fs::path map_file = cli_temp_dir() / "folder_map.yaml";
   for (int k = 0; k < 3; ++k) {
     const std::string pcd = (d / ("scan_" + std::to_string(k) + ".pcd")).string();
     ASSERT_EQ(run_cli("sim --sensor vlp16 --seed " + std::to_string(k + 1) + " --out " + pcd +
@@ -304,8 +274,8 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
                   .status,
               0);
   }
-  const fs::path one = temp_dir() / "folder.json";
-  const CommandRun single =
+  const fs::path one = cli_temp_dir() / "folder.json";
+  const CliRun single =
       run_cli("detect " + d.string() + " --frames 2 --sensor vlp16 --json " + one.string());
   ASSERT_EQ(single.status, 0) << single.err;
   const json integrated = json::parse(slurp(one));
@@ -314,9 +284,9 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
     std::ofstream empty(d / "scan_1x.xyz");
     empty << "0 0 0 5\nnan 1 2 3\n";
   }
-  const fs::path jsonl = temp_dir() / "folder.jsonl";
-  const CommandRun frames = run_cli("detect " + d.string() + " --sensor vlp16 --map " +
-                                    map_file.string() + " --jsonl " + jsonl.string());
+  const fs::path jsonl = cli_temp_dir() / "folder.jsonl";
+  const CliRun frames = run_cli("detect " + d.string() + " --sensor vlp16 --map " +
+                                map_file.string() + " --jsonl " + jsonl.string());
   ASSERT_EQ(frames.status, 0) << frames.err;
   const std::vector<json> lines = read_jsonl(jsonl);
   ASSERT_EQ(lines.size(), 4u);
@@ -335,8 +305,8 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
   EXPECT_EQ(lines[2]["pose_missing_reason"], "no valid points");
   EXPECT_EQ(lines[2]["timing_ms"].size(), lines[0]["timing_ms"].size());
   EXPECT_GT(lines[3]["input"]["valid_points"].get<int>(), 10000);
-  const CommandRun both = run_cli("detect " + d.string() + " --sensor vlp16 --jsonl " +
-                                  jsonl.string() + " --json " + one.string());
+  const CliRun both = run_cli("detect " + d.string() + " --sensor vlp16 --jsonl " + jsonl.string() +
+                              " --json " + one.string());
   EXPECT_EQ(both.status, 2);
   EXPECT_NE(both.err.find("take one cloud; a sequence writes --jsonl"), std::string::npos)
       << both.err;
@@ -352,7 +322,7 @@ TEST(Sequence, ProgressBarOnlyOnATerminal) {
   if (shell("command -v script >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "util-linux `script` absent: cannot give the program a terminal";
   const MovingRecording& rec = moving_recording();
-  const fs::path log = temp_dir() / "tty.log";
+  const fs::path log = cli_temp_dir() / "tty.log";
   const std::string detect = std::string(IILFM_CLI_PATH) + " detect " + rec.bag +
                              " --topic /velodyne_points --sensor ultrapuck";
   ASSERT_EQ(shell("script -qec '" + detect + "' " + log.string() + " >/dev/null 2>&1"), 0);

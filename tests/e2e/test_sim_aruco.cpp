@@ -2,7 +2,6 @@
 // pixel's footprint, and the paper's grid of 35 tag36h11 and 4 ArUco markers is found complete with
 // both families enabled in one run (library and `iilfm` program).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_run.hpp"
 #include "iilfm/eval/case.hpp"
 #include "iilfm/sensor.hpp"
 
@@ -108,28 +108,18 @@ TEST(SimAruco, PaperGridFindsAll39MarkersWithBothFamilies) {
   }
 }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-int run_cli(const std::string& args) {
-  const int raw = std::system((std::string(IILFM_CLI_PATH) + " " + args + " >/dev/null").c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-}
-
 TEST(SimAruco, CliDetectsThePaperGridWithTwoMarkerFamilies) {
   const fs::path d = fs::temp_directory_path() / ("iilfm_aruco_" + std::to_string(::getpid()));
   fs::create_directories(d);
   const std::string pcd = (d / "grid.pcd").string(), map = (d / "grid.yaml").string(),
                     truth = (d / "truth.json").string(), json = (d / "out.json").string();
   ASSERT_EQ(run_cli("sim --scene paper-grid --seed 7 --out " + pcd + " --map " + map + " --truth " +
-                    truth),
+                    truth)
+                .status,
             0);
   ASSERT_EQ(run_cli("detect " + pcd + " --sensor mid40 --marker apriltag:tag36h11 --marker " +
-                    "aruco:DICT_4X4_50 --map " + map + " --json " + json),
+                    "aruco:DICT_4X4_50 --map " + map + " --json " + json)
+                .status,
             0);
   const nlohmann::json t = nlohmann::json::parse(slurp(truth));
   const nlohmann::json j = nlohmann::json::parse(slurp(json));
