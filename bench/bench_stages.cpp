@@ -1,96 +1,124 @@
-// Per-stage timings on simulated scans (Google Benchmark). Run: build/bin/iilfm_bench_stages
+// Per-stage timings on the shared simulated scans (Google Benchmark).
+// Run: build/bin/iilfm_bench_stages [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
 #include <map>
+#include <string>
 
-#include "iilfm/pipeline.hpp"
-#include "iilfm/sensor.hpp"
-#include "iilfm/sim/sim.hpp"
+#include "bench_support.hpp"
+#include "iilfm/io/cloud_io.hpp"
 
 namespace iilfm {
 namespace {
 
-struct Scan {
-  PointCloud cloud;
-  PipelineOptions options;
-};
+using bench::scan;
 
-// The paper's set-ups: Mid-40 with `frames` integrated frames of the tag wall, and the ULTRA Puck
-// ccw_10m scene.
-Scan make_scan(const std::string& scene_name, const std::string& sensor, int frames) {
-  const sim::SceneSetup scene = sim::named_scene(scene_name);
-  sim::SimOptions sim_options;
-  sim_options.T_world_lidar = scene.T_world_lidar;
-  sim_options.frames = frames;
-  Scan scan;
-  scan.cloud = sim::simulate(scene.scene, sim::sensor_model(sensor), sim_options).cloud;
-  apply_sensor_preset(find_sensor_preset(sensor), scan.options);
-  scan.options.families = {scene.scene.markers.front().family};
-  return scan;
+void BM_Read(benchmark::State& state, const std::string& name) {
+  const std::string path = "/tmp/iilfm-bench-read-" + name + ".pcd";
+  io::write_pcd(path, scan(name).scan.scan.cloud);
+  for (auto _ : state) benchmark::DoNotOptimize(io::read_cloud(path).cloud.size());
+  bench::report_points(state, scan(name).scan.scan.cloud.size());
+  std::remove(path.c_str());
 }
 
-const Scan& mid40_scan(int frames) {
-  static std::map<int, Scan> scans;
-  auto it = scans.find(frames);
-  if (it == scans.end()) it = scans.emplace(frames, make_scan("tag-wall", "mid40", frames)).first;
-  return it->second;
+// The floor: one streaming read of the points' bytes and one float written per pixel.
+void BM_Floor(benchmark::State& state, const std::string& name) {
+  const PointCloud& cloud = scan(name).scan.scan.cloud;
+  const ProjectedImage& image = bench::projected(name);
+  std::vector<float> out(image.intensity.total());
+  for (auto _ : state) {
+    float sum = 0;
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      sum += cloud.x[i] + cloud.y[i] + cloud.z[i] + cloud.intensity[i];
+    std::fill(out.begin(), out.end(), sum);
+    benchmark::DoNotOptimize(out.data());
+  }
+  bench::report_points(state, cloud.size());
 }
 
-const Scan& ultrapuck_scan() {
-  static const Scan scan = make_scan("ccw10m", "ultrapuck", 1);
-  return scan;
-}
-
-void report_points(benchmark::State& state, std::size_t points) {
-  state.counters["points/s"] = benchmark::Counter(static_cast<double>(points) * state.iterations(),
-                                                  benchmark::Counter::kIsRate);
-}
-
-void BM_Project_Mid40(benchmark::State& state) {
-  const Scan& scan = mid40_scan(static_cast<int>(state.range(0)));
-  SphericalProjector projector(scan.options.projection);
+void BM_Project(benchmark::State& state, const std::string& name) {
+  const bench::Scan& s = scan(name);
+  SphericalProjector projector(s.options.projection);
   ProjectedImage image;
-  for (auto _ : state) projector.project(scan.cloud, image);
-  report_points(state, scan.cloud.size());
+  for (auto _ : state) projector.project(s.scan.scan.cloud, image);
+  bench::report_points(state, s.scan.scan.cloud.size());
 }
-BENCHMARK(BM_Project_Mid40)->Arg(1)->Arg(10)->Arg(60)->Unit(benchmark::kMillisecond);
 
-void BM_Preprocess_Mid40(benchmark::State& state) {
-  const Scan& scan = mid40_scan(60);
-  ProjectedImage image;
-  SphericalProjector(scan.options.projection).project(scan.cloud, image);
+void BM_Preprocess(benchmark::State& state, const std::string& name) {
+  const ProjectedImage& image = bench::projected(name);
   PreprocessedImage out;
-  for (auto _ : state) preprocess(image, scan.options.preprocess, out);
+  for (auto _ : state) preprocess(image, scan(name).options.preprocess, out);
 }
-BENCHMARK(BM_Preprocess_Mid40)->Unit(benchmark::kMillisecond);
 
-void BM_Detect_Mid40(benchmark::State& state) {
-  const Scan& scan = mid40_scan(60);
-  ProjectedImage image;
-  SphericalProjector(scan.options.projection).project(scan.cloud, image);
+void BM_Detect(benchmark::State& state, const std::string& name) {
+  const ProjectedImage& image = bench::projected(name);
   PreprocessedImage pre;
-  preprocess(image, scan.options.preprocess, pre);
-  auto detector = make_detector(scan.options.families.front(), scan.options.detector);
+  preprocess(image, scan(name).options.preprocess, pre);
+  DetectorOptions options = scan(name).options.detector;
+  options.apriltag.threads = static_cast<int>(state.range(0));
+  std::vector<std::unique_ptr<MarkerDetector>> detectors;
+  for (const std::string& family : scan(name).options.families)
+    detectors.push_back(make_detector(family, options));
   std::vector<Detection> found;
   for (auto _ : state) {
     found.clear();
-    detector->detect(pre.detect, found);
+    for (auto& d : detectors) d->detect(pre.detect, found);
+  }
+  state.counters["markers"] = static_cast<double>(found.size());
+}
+
+void BM_Pipeline(benchmark::State& state, const std::string& name) {
+  const bench::Scan& s = scan(name);
+  PipelineOptions options = s.options;
+  options.detector.apriltag.threads = static_cast<int>(state.range(0));
+  Pipeline pipeline(options);
+  for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(s.scan.scan.cloud).markers.size());
+  bench::report_points(state, s.scan.scan.cloud.size());
+}
+
+// Lift and pose: the pipeline minus its first three stages, timed by the pipeline itself.
+void BM_LiftAndPose(benchmark::State& state, const std::string& name) {
+  const bench::Scan& s = scan(name);
+  Pipeline pipeline(s.options);
+  for (auto _ : state) {
+    const FrameResult& r = pipeline.process(s.scan.scan.cloud);
+    state.SetIterationTime((r.times_ms.lift + r.times_ms.pose) / 1e3);
   }
 }
-BENCHMARK(BM_Detect_Mid40)->Unit(benchmark::kMillisecond);
 
-void BM_Pipeline(benchmark::State& state, const Scan& (*scan_of)()) {
-  const Scan& scan = scan_of();
-  Pipeline pipeline(scan.options);
-  for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(scan.cloud).markers.size());
-  report_points(state, scan.cloud.size());
+void register_all() {
+  for (const std::string& name : bench::scan_names()) {
+    benchmark::RegisterBenchmark(("Read/" + name).c_str(), BM_Read, name)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Floor/" + name).c_str(), BM_Floor, name)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Project/" + name).c_str(), BM_Project, name)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Preprocess/" + name).c_str(), BM_Preprocess, name)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Detect/" + name).c_str(), BM_Detect, name)
+        ->ArgName("threads")
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("LiftAndPose/" + name).c_str(), BM_LiftAndPose, name)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Pipeline/" + name).c_str(), BM_Pipeline, name)
+        ->ArgName("threads")
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond);
+  }
 }
-BENCHMARK_CAPTURE(BM_Pipeline, Mid40_60frames, []() -> const Scan& {
-  return mid40_scan(60);
-})->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Pipeline, UltraPuck_ccw10m, ultrapuck_scan)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace iilfm
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  iilfm::register_all();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -13,7 +13,9 @@ namespace iilfm::detail {
 inline float fast_atan2(float y, float x) {
   const float ax = std::fabs(x), ay = std::fabs(y);
   const float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
-  const float t = hi > 0.0f ? lo / hi : 0.0f;
+  // Dividing by at least a tiny number instead of branching on hi == 0 (then lo == 0 and t == 0)
+  // keeps the function branch-free, so loops calling it vectorise.
+  const float t = lo / (hi > 1e-30f ? hi : 1e-30f);
   const float s = t * t;
   float r = -1.1719134575e-02f;
   r = r * s + 5.2647349498e-02f;

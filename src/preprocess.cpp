@@ -12,30 +12,58 @@ namespace iilfm {
 
 namespace {
 
-// Mean of the observed 8-neighbours for unobserved pixels with enough of them. Only the detector
-// sees these values: no 3-D point is ever made from a filled pixel. Box filters of the masked
-// intensity and of the mask give every pixel's neighbour sum and count in two vectorised passes.
+// Mean of the observed 8-neighbours for unobserved pixels with at least `min_neighbours` of them.
+// Only the detector sees these values: no 3-D point is ever made from a filled pixel. One pass
+// over the rows: 3-row column sums of the observed values and of the observed count, then their
+// 3-column sums; both loops are branch-free and vectorise.
 void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours, cv::Mat& filled,
                 cv::Mat& filled_mask) {
-  cv::Mat observed, masked, sum, count;
-  mask.convertTo(observed, CV_32F, 1.0 / 255.0);
-  cv::multiply(intensity, observed, masked);
-  cv::boxFilter(masked, sum, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  cv::boxFilter(observed, count, CV_32F, cv::Size(3, 3), cv::Point(-1, -1), false,
-                cv::BORDER_CONSTANT);
-  const cv::Mat fillable = (mask == 0) & (count >= static_cast<float>(min_neighbours) - 0.5f);
-  intensity.copyTo(filled);
-  cv::Mat mean;
-  cv::divide(sum, cv::max(count, 1.0f), mean);
-  mean.copyTo(filled, fillable);
-  filled_mask = mask | fillable;
+  const int rows = intensity.rows, cols = intensity.cols;
+  filled.create(rows, cols, CV_32F);
+  filled_mask.create(rows, cols, CV_8U);
+  // Column sums padded by one zero column on each side.
+  thread_local std::vector<float> value_sum, count_sum;  // reused: no allocation once warm
+  value_sum.assign(static_cast<std::size_t>(cols) + 2, 0.0f);
+  count_sum.assign(static_cast<std::size_t>(cols) + 2, 0.0f);
+  const float needed = static_cast<float>(min_neighbours) - 0.5f;
+  for (int r = 0; r < rows; ++r) {
+    float* __restrict vs = value_sum.data() + 1;
+    float* __restrict cs = count_sum.data() + 1;
+    std::fill(vs, vs + cols, 0.0f);
+    std::fill(cs, cs + cols, 0.0f);
+    for (int rr = std::max(0, r - 1); rr <= std::min(rows - 1, r + 1); ++rr) {
+      const float* __restrict v = intensity.ptr<float>(rr);
+      const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(rr);
+      for (int c = 0; c < cols; ++c) {
+        const float observed = m[c] ? 1.0f : 0.0f;
+        vs[c] += v[c] * observed;
+        cs[c] += observed;
+      }
+    }
+    const float* __restrict v = intensity.ptr<float>(r);
+    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
+    float* __restrict out = filled.ptr<float>(r);
+    std::uint8_t* __restrict out_mask = filled_mask.ptr<std::uint8_t>(r);
+    // Arithmetic blends instead of branches (masks hold 0 or 255), so the loop vectorises.
+    const float* __restrict vl = value_sum.data();  // vl[c] = vs[c - 1]
+    const float* __restrict cl = count_sum.data();
+    for (int c = 0; c < cols; ++c) {
+      const float sum = vl[c] + vl[c + 1] + vl[c + 2];
+      const float count = cl[c] + cl[c + 1] + cl[c + 2];
+      const float fillable = count >= needed ? 1.0f : 0.0f;
+      const float mean = sum / (count > 1.0f ? count : 1.0f);
+      const float observed = static_cast<float>(m[c]) * (1.0f / 255.0f);
+      out[c] = observed * v[c] + (1.0f - observed) * fillable * mean;
+      out_mask[c] = static_cast<std::uint8_t>(255.0f * std::max(observed, fillable));
+    }
+  }
 }
 
 // Intensity that maps to gray 255: the 99th percentile of observed values, so a few
 // retro-reflectors do not darken everything else. Every 4th pixel of every 2nd row is plenty for a
 // percentile of a display scale and keeps this off the frame's critical path.
 double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
-  std::vector<float> values;
+  thread_local std::vector<float> values;  // reused: no allocation once warm
   values.reserve(static_cast<std::size_t>(intensity.total() / 8 + 1));
   auto sample = [&](int row_step, int col_step) {
     values.clear();
@@ -114,50 +142,88 @@ cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double glo
   return above;
 }
 
+// 8-bit gray for display and for Otsu: intensity scaled so `scale` maps to 255; pixels still
+// unobserved get `unobserved`.
+void to_gray(const cv::Mat& filled, const cv::Mat& valid, double scale, int unobserved,
+             cv::Mat& gray) {
+  gray.create(filled.size(), CV_8U);
+  const float factor = static_cast<float>(255.0 / scale);
+  const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
+  const int cols = filled.cols;  // a local: the byte stores below could alias the Mat's fields
+  for (int r = 0; r < filled.rows; ++r) {
+    const float* __restrict v = filled.ptr<float>(r);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
+    std::uint8_t* __restrict g = gray.ptr<std::uint8_t>(r);
+    for (int c = 0; c < cols; ++c) {
+      const float level = std::min(std::max(v[c] * factor + 0.5f, 0.0f), 255.0f);
+      const std::uint8_t value = static_cast<std::uint8_t>(level);
+      g[c] = static_cast<std::uint8_t>((value & m[c]) | (hole & ~m[c]));  // masks hold 0 or 255
+    }
+  }
+}
+
+// The naive global threshold: 255 where brighter than `threshold`, 0 where not, `unobserved`
+// where no value is known.
+void binarize(const cv::Mat& filled, const cv::Mat& valid, double threshold, int unobserved,
+              cv::Mat& detect) {
+  detect.create(filled.size(), CV_8U);
+  const float t = static_cast<float>(threshold);
+  const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
+  const int cols = filled.cols;
+  for (int r = 0; r < filled.rows; ++r) {
+    const float* __restrict v = filled.ptr<float>(r);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
+    std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
+    for (int c = 0; c < cols; ++c) {
+      const std::uint8_t level = v[c] > t ? 255 : 0;
+      d[c] = static_cast<std::uint8_t>((level & m[c]) | (hole & ~m[c]));  // masks hold 0 or 255
+    }
+  }
+}
+
 }  // namespace
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                 PreprocessedImage& out) {
-  cv::Mat filled, filled_mask;
-  if (options.fill_holes) {
-    fill_holes(image.intensity, image.mask, options.fill_min_neighbours, filled, filled_mask);
-    for (int pass = 1; pass < options.fill_passes; ++pass) {
-      cv::Mat previous = filled, previous_mask = filled_mask;
-      fill_holes(previous, previous_mask, options.fill_min_neighbours, filled, filled_mask);
-    }
-  } else {
-    filled = image.intensity;
-    filled_mask = image.mask;
+  // Hole filling alternates between two reused buffer pairs (a pass reads the previous one).
+  const cv::Mat* values = &image.intensity;
+  const cv::Mat* mask = &image.mask;
+  for (int pass = 0; options.fill_holes && pass < std::max(1, options.fill_passes); ++pass) {
+    PreprocessedImage::Buffers& into = out.work[pass % 2];
+    fill_holes(*values, *mask, options.fill_min_neighbours, into.values, into.mask);
+    values = &into.values;
+    mask = &into.mask;
   }
 
   if (options.square_pixels && needs_square_pixels(image.geometry)) {
     out.geometry = square_pixel_geometry(image.geometry);
-    cv::Mat square, square_mask;
-    resample_rows(filled, filled_mask, image.geometry, out.geometry, square, square_mask);
-    filled = square;
-    filled_mask = square_mask;
+    PreprocessedImage::Buffers& into = out.work[values == &out.work[0].values ? 1 : 0];
+    resample_rows(*values, *mask, image.geometry, out.geometry, into.values, into.mask);
+    values = &into.values;
+    mask = &into.mask;
   } else {
     out.geometry = image.geometry;
   }
+  const cv::Mat& filled = *values;
+  const cv::Mat& filled_mask = *mask;
 
   filled_mask.copyTo(out.valid);
   out.intensity_scale = robust_max(image.intensity, image.mask);
-  filled.convertTo(out.gray, CV_8U, 255.0 / out.intensity_scale);
-  out.gray.setTo(options.unobserved_value, filled_mask == 0);
+  to_gray(filled, filled_mask, out.intensity_scale, options.unobserved_value, out.gray);
 
   out.threshold = options.threshold ? *options.threshold
                                     : otsu_threshold(out.gray, filled_mask, out.intensity_scale);
-  if (options.binarize) {
-    cv::Mat above = options.local_threshold
-                        ? above_local_mean(filled, filled_mask, out.threshold, out.intensity_scale,
-                                           options)
-                        : filled > out.threshold;  // 255 where brighter than the threshold
+  if (!options.binarize) {
+    out.gray.copyTo(out.detect);
+  } else if (options.local_threshold) {
+    const cv::Mat above =
+        above_local_mean(filled, filled_mask, out.threshold, out.intensity_scale, options);
     out.detect.create(filled.size(), CV_8U);
     out.detect.setTo(0);
     out.detect.setTo(255, above & filled_mask);
     out.detect.setTo(options.unobserved_value, filled_mask == 0);
   } else {
-    out.gray.copyTo(out.detect);
+    binarize(filled, filled_mask, out.threshold, options.unobserved_value, out.detect);
   }
   if (options.blur_sigma > 0) {
     cv::GaussianBlur(out.detect, out.detect, cv::Size(0, 0), options.blur_sigma);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <string>
@@ -96,39 +97,91 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
   project(PointView(cloud), out);
 }
 
+namespace {
+
+// Pass 1 over contiguous or strided columns: spherical coordinates (paper Eq. 1). No reduction
+// in the loop, so GCC vectorises it for contiguous columns.
+template <typename Column>
+void spherical_coordinates(const Column& xs, const Column& ys, const Column& zs, std::size_t n,
+                           float* __restrict azimuth, float* __restrict elevation,
+                           float* __restrict range) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = xs[i], y = ys[i], z = zs[i];
+    const float horizontal_sq = x * x + y * y;
+    azimuth[i] = detail::fast_atan2(y, x);
+    elevation[i] = detail::fast_atan2(z, std::sqrt(horizontal_sq));
+    range[i] = std::sqrt(horizontal_sq + z * z);
+  }
+}
+
+struct Contiguous {
+  const float* __restrict data;
+  float operator[](std::size_t i) const { return data[i]; }
+};
+
+AngularBounds extent_of(const float* azimuth, const float* elevation, const float* range,
+                        std::size_t n) {
+  float az_min = 10, az_max = -10, el_min = 10, el_max = -10;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(range[i] > 0)) continue;
+    az_min = std::min(az_min, azimuth[i]);
+    az_max = std::max(az_max, azimuth[i]);
+    el_min = std::min(el_min, elevation[i]);
+    el_max = std::max(el_max, elevation[i]);
+  }
+  if (az_min > az_max) return AngularBounds{};
+  return AngularBounds{az_min, az_max, el_min, el_max};
+}
+
+// Pass 2 for uniform rows: each point's pixel (row-major index, -1 outside the image) and squared
+// distance to the pixel centre. Branch-free, so it vectorises. Returns the points outside.
+std::size_t pixels_of_points(const ImageGeometry& g, const float* __restrict azimuth,
+                             const float* __restrict elevation, const float* __restrict range,
+                             std::size_t n, std::int32_t* __restrict pixel,
+                             float* __restrict offset) {
+  const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
+  const float inv_res_h = static_cast<float>(1 / g.res_h),
+              inv_res_v = static_cast<float>(1 / g.res_v);
+  const float u_end = static_cast<float>(g.width) - 0.5f,
+              v_end = static_cast<float>(g.height) - 0.5f;
+  const std::int32_t width = g.width;
+  std::size_t outside = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float u = u0 - azimuth[i] * inv_res_h, v = v0 - elevation[i] * inv_res_v;
+    // Bitwise, not short-circuit: no branch in the loop.
+    const bool in = (range[i] > 0) & (u >= -0.5f) & (v >= -0.5f) & (u < u_end) & (v < v_end);
+    // Inside, both are >= -0.5, so truncating x + 0.5 rounds to nearest without a libm call.
+    const float uc = in ? u + 0.5f : 0.5f, vc = in ? v + 0.5f : 0.5f;
+    const std::int32_t col = static_cast<std::int32_t>(uc), row = static_cast<std::int32_t>(vc);
+    const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
+    pixel[i] = in ? row * width + col : -1;
+    offset[i] = du * du + dv * dv;
+    outside += in ? 0 : 1;
+  }
+  return outside;
+}
+
+}  // namespace
+
 void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   const std::size_t n = cloud.size();
   azimuth_.resize(n);
   elevation_.resize(n);
   range_.resize(n);
+  pixel_.resize(n);
+  offset_.resize(n);
 
-  // Pass 1: spherical coordinates (paper Eq. 1) and the cloud's angular extent, in a loop the
-  // compiler can vectorise.
-  const StridedColumn<float> xs = cloud.x, ys = cloud.y, zs = cloud.z;
-  float az_min = 10, az_max = -10, el_min = 10, el_max = -10;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float x = xs[i], y = ys[i], z = zs[i];
-    const float horizontal_sq = x * x + y * y;
-    const float az = detail::fast_atan2(y, x);
-    const float el = detail::fast_atan2(z, std::sqrt(horizontal_sq));
-    azimuth_[i] = az;
-    elevation_[i] = el;
-    range_[i] = std::sqrt(horizontal_sq + z * z);
-    az_min = std::min(az_min, az);
-    az_max = std::max(az_max, az);
-    el_min = std::min(el_min, el);
-    el_max = std::max(el_max, el);
+  const bool contiguous = cloud.x.stride == 1 && cloud.y.stride == 1 && cloud.z.stride == 1;
+  if (contiguous) {
+    spherical_coordinates(Contiguous{cloud.x.data}, Contiguous{cloud.y.data},
+                          Contiguous{cloud.z.data}, n, azimuth_.data(), elevation_.data(),
+                          range_.data());
+  } else {
+    spherical_coordinates(cloud.x, cloud.y, cloud.z, n, azimuth_.data(), elevation_.data(),
+                          range_.data());
   }
-  AngularBounds extent{az_min, az_max, el_min, el_max};
-  if (n == 0) extent = AngularBounds{};
 
-  AngularBounds bounds = extent;
-  if (options_.field_of_view && inside(*options_.field_of_view, extent)) {
-    bounds = *options_.field_of_view;
-  }
   const double res_h = options_.res_h_deg * kDegToRad, res_v = options_.res_v_deg * kDegToRad;
-  ImageGeometry g = geometry_for_bounds(bounds, res_h, res_v);
-
   // Ring rows: one row per laser, found from the ring field or the elevation clusters.
   std::optional<RingStructure> rings;
   if (options_.rows == RowLayout::kRings && n > 0) {
@@ -136,64 +189,58 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     if (!rings) rings = rings_from_elevations(elevation_.data(), n);
   }
   out.row_source = rings ? rings->source : "uniform";
-  if (rings) {
-    g.height = static_cast<int>(rings->rows());
-    g.row_elevation = rings->elevation;
-    g.res_v = rings->rows() > 1 ? rings->mean_spacing() : res_v;
-    g.v0 = 0;
-  }
 
-  const double pixels = static_cast<double>(g.width) * g.height;
-  if (pixels > static_cast<double>(options_.max_pixels)) {
-    throw InputError("intensity image would be " + std::to_string(g.width) + "x" +
-                     std::to_string(g.height) + " pixels, over the limit of " +
-                     std::to_string(options_.max_pixels) +
-                     "; check --res-h/--res-v (degrees) or the sensor preset");
-  }
-
-  const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
-  pixels_.assign(total, PixelAccumulator{0.f, 0.f, std::numeric_limits<float>::max(), -1, 0});
-
-  // Pass 2: bin every point (paper Eq. 2 with the non-mirrored orientation).
-  const bool nearest = options_.collision == CollisionPolicy::kNearest;
-  const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
-  const float inv_res_h = static_cast<float>(1 / res_h), inv_res_v = static_cast<float>(1 / res_v);
-  const float u_end = static_cast<float>(g.width) - 0.5f,
-              v_end = static_cast<float>(g.height) - 0.5f;
-  std::size_t projected = 0;
-  auto accumulate = [&](std::size_t i, int col, int row, float offset) {
-    PixelAccumulator& px = pixels_[static_cast<std::size_t>(row) * g.width + col];
-    if (!nearest) {
-      px.range_sum += range_[i];
-      px.intensity_sum += cloud.intensity[i];
-    } else if (px.count == 0 || range_[i] < px.range_sum) {
-      px.range_sum = range_[i];
-      px.intensity_sum = cloud.intensity[i];
+  // The sensor's field of view when the cloud lies inside it (the common case: then the extent
+  // is never computed, the count of points outside says so); otherwise the cloud's own extent.
+  auto geometry_for = [&](const AngularBounds& bounds) {
+    ImageGeometry g = geometry_for_bounds(bounds, res_h, res_v);
+    if (rings) {
+      g.height = static_cast<int>(rings->rows());
+      g.row_elevation = rings->elevation;
+      g.res_v = rings->rows() > 1 ? rings->mean_spacing() : res_v;
+      g.v0 = 0;
     }
-    if (offset < px.best_offset) {
-      px.best_offset = offset;
-      px.index = static_cast<std::int32_t>(i);
+    const double pixels = static_cast<double>(g.width) * g.height;
+    if (pixels > static_cast<double>(options_.max_pixels)) {
+      throw InputError("intensity image would be " + std::to_string(g.width) + "x" +
+                       std::to_string(g.height) + " pixels, over the limit of " +
+                       std::to_string(options_.max_pixels) +
+                       "; check --res-h/--res-v (degrees) or the sensor preset");
     }
-    ++px.count;
-    ++projected;
+    return g;
   };
+  auto extent = [&] { return extent_of(azimuth_.data(), elevation_.data(), range_.data(), n); };
+  ImageGeometry g;
   if (!rings) {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (range_[i] <= 0) continue;
-      const float u = u0 - azimuth_[i] * inv_res_h, v = v0 - elevation_[i] * inv_res_v;
-      if (!(u >= -0.5f && v >= -0.5f && u < u_end && v < v_end)) continue;
-      // Both are >= -0.5 here, so truncation of x + 0.5 rounds to nearest without a libm call.
-      const int col = static_cast<int>(u + 0.5f), row = static_cast<int>(v + 0.5f);
-      if (col >= g.width || row >= g.height) continue;
-      const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
-      accumulate(i, col, row, du * du + dv * dv);
+    bool placed = false;
+    if (options_.field_of_view) {
+      g = geometry_for(*options_.field_of_view);
+      const std::size_t outside = pixels_of_points(g, azimuth_.data(), elevation_.data(),
+                                                   range_.data(), n, pixel_.data(), offset_.data());
+      // Points outside the field of view that were measured: the preset does not fit the cloud.
+      std::size_t unmeasured = 0;
+      if (outside > 0)
+        for (std::size_t i = 0; i < n; ++i) unmeasured += range_[i] > 0 ? 0 : 1;
+      placed = outside == unmeasured;
+    }
+    if (!placed) {
+      g = geometry_for(extent());
+      pixels_of_points(g, azimuth_.data(), elevation_.data(), range_.data(), n, pixel_.data(),
+                       offset_.data());
     }
   } else {
+    const AngularBounds cloud_extent = extent();
+    g = geometry_for(options_.field_of_view && inside(*options_.field_of_view, cloud_extent)
+                         ? *options_.field_of_view
+                         : cloud_extent);
     // A ring is one row, so only the column offset decides which point represents the pixel.
     const bool by_field = !rings->row_of_ring.empty();
     const RingRowLookup lookup(by_field ? RingStructure{} : *rings);
+    const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / res_h);
+    const float u_end = static_cast<float>(g.width) - 0.5f;
     for (std::size_t i = 0; i < n; ++i) {
-      if (range_[i] <= 0) continue;
+      pixel_[i] = -1;
+      if (!(range_[i] > 0)) continue;
       const float u = u0 - azimuth_[i] * inv_res_h;
       if (!(u >= -0.5f && u < u_end)) continue;
       const int col = static_cast<int>(u + 0.5f);
@@ -207,13 +254,52 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
         row = lookup.row(elevation_[i]);
       }
       const float du = u - static_cast<float>(col);
-      accumulate(i, col, row, du * du);
+      pixel_[i] = row * g.width + col;
+      offset_[i] = du * du;
     }
+  }
+
+  // Pass 3: bin every point (paper Eq. 2 with the non-mirrored orientation). The Livox rosette
+  // visits pixels in scattered order, so each point's pixel is a cache miss: prefetch the pixel of
+  // a point some iterations ahead so the misses overlap.
+  const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
+  pixels_.resize(total);
+  std::memset(static_cast<void*>(pixels_.data()), 0, total * sizeof(PixelAccumulator));
+  const bool nearest = options_.collision == CollisionPolicy::kNearest;
+  const StridedColumn<float> intensities = cloud.intensity;
+  constexpr std::size_t kAhead = 32;
+  constexpr std::uint32_t kMaxCount = (1u << 24) - 1;
+  std::size_t projected = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n) {
+      const std::int32_t ahead = pixel_[i + kAhead];
+      __builtin_prefetch(pixels_.data() + (ahead < 0 ? 0 : ahead), 1);
+    }
+    const std::int32_t p = pixel_[i];
+    if (p < 0) continue;
+    PixelAccumulator& px = pixels_[static_cast<std::size_t>(p)];
+    if (px.count == kMaxCount) continue;  // a full pixel keeps a true mean
+    const float r = range_[i], intensity = intensities[i];
+    if (!nearest) {
+      px.range_sum += r;
+      px.intensity_sum += intensity;
+    } else if (px.count == 0 || r < px.range_sum) {
+      px.range_sum = r;
+      px.intensity_sum = intensity;
+    }
+    // Squared offsets lie in [0, 0.5] pixel^2; 8 bits resolve them to 0.002.
+    const std::uint32_t offset = static_cast<std::uint32_t>(offset_[i] * 510.0f);
+    if (px.count == 0 || offset < px.best_offset) {
+      px.best_offset = offset > 255 ? 255 : offset;
+      px.index = static_cast<std::int32_t>(i);
+    }
+    ++px.count;
+    ++projected;
   }
   out.geometry = std::move(g);
   const ImageGeometry& geo = out.geometry;
 
-  // Pass 3: the images, written sequentially.
+  // Pass 4: the images, written sequentially.
   out.intensity.create(geo.height, geo.width, CV_32F);
   out.range.create(geo.height, geo.width, CV_32F);
   out.mask.create(geo.height, geo.width, CV_8U);
@@ -230,7 +316,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     range[p] = px.range_sum * scale;
     intensity[p] = px.intensity_sum * scale;
     mask[p] = px.count > 0 ? 255 : 0;
-    index[p] = px.index;
+    index[p] = px.count > 0 ? px.index : -1;
     count[p] = px.count;
   }
   out.points_projected = projected;

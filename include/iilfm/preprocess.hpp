@@ -42,6 +42,13 @@ struct PreprocessedImage {
   cv::Mat valid;               // CV_8U 255 where observed or filled, 0 where still unobserved
   double threshold = 0;        // threshold applied, in intensity units
   double intensity_scale = 0;  // intensity mapped to gray 255
+
+  // Working buffers (hole filling, square pixels), kept so that frame after frame of one size
+  // allocates nothing.
+  struct Buffers {
+    cv::Mat values, mask;
+  };
+  Buffers work[2];
 };
 
 // Fills `out`, reusing its buffers.

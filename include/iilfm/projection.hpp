@@ -113,15 +113,19 @@ class SphericalProjector {
   const ProjectionOptions& options() const { return options_; }
 
  private:
-  // Everything pass 2 touches for one pixel, kept together so a scattered point order (the Livox
-  // rosette) costs one cache miss per point instead of one per image.
+  // Everything binning touches for one pixel, in 16 bytes (four per cache line, none straddling
+  // two), so a scattered point order (the Livox rosette) costs one cache miss per point.
   struct PixelAccumulator {
-    float range_sum, intensity_sum, best_offset;
-    std::int32_t index, count;
+    float range_sum, intensity_sum;
+    std::int32_t index;             // the point nearest to the pixel centre so far
+    std::uint32_t count : 24;       // points in the pixel (saturates at 16.7 million)
+    std::uint32_t best_offset : 8;  // its squared distance to the centre, in 1/510 pixel^2
   };
+  static_assert(sizeof(PixelAccumulator) == 16, "four accumulators per cache line");
 
   ProjectionOptions options_;
-  std::vector<float> azimuth_, elevation_, range_;
+  std::vector<float> azimuth_, elevation_, range_, offset_;
+  std::vector<std::int32_t> pixel_;  // each point's pixel (row-major), -1 when not in the image
   std::vector<PixelAccumulator> pixels_;
 };
 

@@ -1,0 +1,22 @@
+// The simulated scans shared by the benchmark programs, simulated once per process on first use.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "iilfm/eval/bench_scans.hpp"
+#include "iilfm/pipeline.hpp"
+
+namespace iilfm::bench {
+
+using Scan = eval::BenchScan;
+
+std::vector<std::string> scan_names();
+const Scan& scan(const std::string& name);
+const ProjectedImage& projected(const std::string& name);  // the scan projected once
+
+void report_points(benchmark::State& state, std::size_t points);
+
+}  // namespace iilfm::bench

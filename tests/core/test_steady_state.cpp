@@ -1,0 +1,108 @@
+// Frame after frame of the same sensor, projection and preprocessing reuse their buffers: no heap
+// allocation at all once warm (counted through operator new and OpenCV's matrix allocator).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+#include <opencv2/core.hpp>
+#include <random>
+
+#include "iilfm/pipeline.hpp"
+#include "iilfm/preprocess.hpp"
+#include "iilfm/projection.hpp"
+#include "iilfm/sensor.hpp"
+
+namespace {
+std::atomic<long> g_new_calls{0};
+}  // namespace
+
+// Counts every operator new in this test program (the library's std containers allocate through
+// it); the test reads the count around the calls it checks.
+void* operator new(std::size_t size) {
+  ++g_new_calls;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace iilfm {
+namespace {
+
+// Wraps OpenCV's default matrix allocator, counting allocations.
+class CountingMatAllocator : public cv::MatAllocator {
+ public:
+  explicit CountingMatAllocator(cv::MatAllocator* inner) : inner_(inner) {}
+  cv::UMatData* allocate(int dims, const int* sizes, int type, void* data, size_t* step,
+                         cv::AccessFlag flags, cv::UMatUsageFlags usage) const override {
+    ++allocations;
+    return inner_->allocate(dims, sizes, type, data, step, flags, usage);
+  }
+  bool allocate(cv::UMatData* data, cv::AccessFlag flags, cv::UMatUsageFlags usage) const override {
+    return inner_->allocate(data, flags, usage);
+  }
+  void deallocate(cv::UMatData* data) const override { inner_->deallocate(data); }
+  mutable std::atomic<long> allocations{0};
+
+ private:
+  cv::MatAllocator* inner_;
+};
+
+// A Mid-40-like frame: directions inside the 38.4 deg cone, a wall at 2-6 m, random intensities.
+PointCloud livox_like_frame(std::uint32_t seed, std::size_t points) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> angle(-0.33f, 0.33f), range(2.0f, 6.0f),
+      intensity(0.f, 150.f);
+  PointCloud cloud;
+  while (cloud.size() < points) {
+    const float a = angle(rng), e = angle(rng);
+    if (a * a + e * e > 0.33f * 0.33f) continue;
+    const float r = range(rng);
+    cloud.push_back(r * std::cos(e) * std::cos(a), r * std::cos(e) * std::sin(a), r * std::sin(e),
+                    intensity(rng));
+  }
+  return cloud;
+}
+
+struct Allocations {
+  long news = 0, mats = 0;
+};
+
+TEST(SteadyState, ProjectionAndPreprocessingAllocateNothingOnceWarm) {
+  // Declared first: matrices allocated through it release through it, so it must outlive them.
+  cv::MatAllocator* const standard = cv::Mat::getDefaultAllocator();
+  CountingMatAllocator counting(standard);
+  PipelineOptions options;
+  apply_sensor_preset(find_sensor_preset("mid40"), options);
+  SphericalProjector projector(options.projection);
+  ProjectedImage image;
+  PreprocessedImage pre;
+  cv::Mat::setDefaultAllocator(&counting);
+
+  // Frames of different sizes, as a real sensor delivers: the buffers grow to the largest once.
+  std::vector<PointCloud> frames;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed)
+    frames.push_back(livox_like_frame(seed, 20000 + 1000 * seed));
+  auto run = [&](const PointCloud& frame) {
+    const long news = g_new_calls.load(), mats = counting.allocations.load();
+    projector.project(frame, image);
+    preprocess(image, options.preprocess, pre);
+    return Allocations{g_new_calls.load() - news, counting.allocations.load() - mats};
+  };
+  const Allocations first = run(frames.back());  // the largest frame first
+  std::vector<Allocations> later;
+  for (const PointCloud& frame : frames) later.push_back(run(frame));
+  cv::Mat::setDefaultAllocator(standard);
+
+  EXPECT_GT(first.news + first.mats, 0) << "the counters see the first frame's allocations";
+  for (std::size_t i = 0; i < later.size(); ++i) {
+    EXPECT_EQ(later[i].news, 0) << "frame " << i;
+    EXPECT_EQ(later[i].mats, 0) << "frame " << i;
+  }
+  EXPECT_GT(cv::countNonZero(pre.detect), 0);
+}
+
+}  // namespace
+}  // namespace iilfm
