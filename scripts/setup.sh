@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every build and test dependency of iilfm from Debian packages. Idempotent: packages that
 # are already installed are not touched, and apt is only called when something is missing.
+# `--bench` adds PCL's headers for the paper-baseline benchmark (bench/paper_baseline.cpp; about
+# 60 MB of packages, not needed by iilfm itself).
 set -euo pipefail
 
 packages=(
@@ -17,6 +19,8 @@ packages=(
   # HTML report tested in a real headless browser
   chromium chromium-driver
 )
+
+[ "${1:-}" = "--bench" ] && packages+=(libpcl-dev)
 
 missing=()
 for p in "${packages[@]}"; do
