@@ -6,42 +6,90 @@ namespace iilfm {
 namespace {
 
 template <typename T>
-void append(std::vector<T>& into, const std::vector<T>& from) {
-  into.insert(into.end(), from.begin(), from.end());
+void move_to_front(std::vector<T>& column, std::size_t from, std::size_t to) {
+  to = std::min(to, column.size());  // ring and time columns may stop early (frames without them)
+  if (from < to) std::copy(column.begin() + from, column.begin() + to, column.begin());
+}
+
+template <typename T>
+void put(std::vector<T>& column, std::size_t at, const std::vector<T>& values) {
+  if (column.size() < at + values.size()) column.resize(at + values.size());
+  std::copy(values.begin(), values.end(), column.begin() + at);
 }
 
 }  // namespace
 
 FrameWindow::FrameWindow(std::size_t frames) : capacity_(std::max<std::size_t>(frames, 1)) {}
 
-void FrameWindow::push(PointCloud cloud, const CloudStats& stats) {
-  if (frames_.size() == capacity_) frames_.pop_front();
-  frames_.push_back({std::move(cloud), stats});
-  merged_valid_ = false;
+// Keeps the buffer's live part (the window and the frame dropped last) at its front when the free
+// space behind it runs out, and sizes the buffer to twice the live part: each point is then moved
+// about once per window length, not once per push.
+void FrameWindow::make_room(std::size_t points) {
+  std::vector<float>* columns[] = {&buffer_.x, &buffer_.y, &buffer_.z, &buffer_.intensity};
+  if (end_ + points <= buffer_.x.size()) return;
+  const std::size_t live_begin = begin_ - dropped_points_;
+  for (std::vector<float>* c : columns) move_to_front(*c, live_begin, end_);
+  move_to_front(buffer_.ring, live_begin, end_);
+  move_to_front(buffer_.time, live_begin, end_);
+  begin_ -= live_begin;
+  end_ -= live_begin;
+  const std::size_t wanted = 2 * (end_ + points);
+  if (buffer_.x.size() < end_ + points)
+    for (std::vector<float>* c : columns) c->resize(wanted);
 }
 
-const PointCloud& FrameWindow::cloud() {
-  if (frames_.size() == 1) return frames_.front().cloud;
-  if (merged_valid_) return merged_;
-  std::size_t total = 0;
-  bool with_ring = true, with_time = true;
-  for (const Held& f : frames_) {
-    total += f.cloud.size();
-    with_ring = with_ring && (f.cloud.has_ring() || f.cloud.empty());
-    with_time = with_time && (f.cloud.has_time() || f.cloud.empty());
+void FrameWindow::push(const PointCloud& cloud, const CloudStats& stats) {
+  ++pushes_;
+  dropped_points_ = 0;
+  if (frames_.size() == capacity_) {
+    dropped_points_ = frames_.front().points;
+    dropped_total_ += dropped_points_;
+    begin_ += dropped_points_;
+    frames_.pop_front();
   }
-  merged_.clear();  // keeps the capacity: no reallocation once the window has filled
-  merged_.reserve(total, with_ring, with_time);
-  for (const Held& f : frames_) {
-    append(merged_.x, f.cloud.x);
-    append(merged_.y, f.cloud.y);
-    append(merged_.z, f.cloud.z);
-    append(merged_.intensity, f.cloud.intensity);
-    if (with_ring) append(merged_.ring, f.cloud.ring);
-    if (with_time) append(merged_.time, f.cloud.time);
-  }
-  merged_valid_ = true;
-  return merged_;
+  const std::size_t n = cloud.size();
+  make_room(n);
+  put(buffer_.x, end_, cloud.x);
+  put(buffer_.y, end_, cloud.y);
+  put(buffer_.z, end_, cloud.z);
+  put(buffer_.intensity, end_, cloud.intensity);
+  put(buffer_.ring, end_, cloud.ring);  // no-op for a frame without rings (then never exposed)
+  put(buffer_.time, end_, cloud.time);
+  end_ += n;
+  frames_.push_back({n, stats, cloud.has_ring() || n == 0, cloud.has_time() || n == 0});
+}
+
+PointView FrameWindow::view_of(std::size_t begin, std::size_t end) const {
+  PointView v;
+  v.count = end - begin;
+  if (buffer_.x.empty()) return v;
+  v.x = {buffer_.x.data() + begin, 1};
+  v.y = {buffer_.y.data() + begin, 1};
+  v.z = {buffer_.z.data() + begin, 1};
+  v.intensity = {buffer_.intensity.data() + begin, 1};
+  const bool ring =
+      std::all_of(frames_.begin(), frames_.end(), [](const Held& f) { return f.ring; });
+  if (ring) v.ring = {buffer_.ring.data() + begin, 1};
+  return v;
+}
+
+PointCloud FrameWindow::copy() const {
+  PointCloud out;
+  const bool ring =
+      std::all_of(frames_.begin(), frames_.end(), [](const Held& f) { return f.ring; });
+  const bool time =
+      std::all_of(frames_.begin(), frames_.end(), [](const Held& f) { return f.time; });
+  auto slice = [&](const auto& column, auto& into) {
+    into.assign(column.begin() + begin_, column.begin() + end_);
+  };
+  if (end_ == begin_) return out;
+  slice(buffer_.x, out.x);
+  slice(buffer_.y, out.y);
+  slice(buffer_.z, out.z);
+  slice(buffer_.intensity, out.intensity);
+  if (ring) slice(buffer_.ring, out.ring);
+  if (time) slice(buffer_.time, out.time);
+  return out;
 }
 
 CloudStats FrameWindow::stats() const {

@@ -101,14 +101,26 @@ Pipeline& Pipeline::operator=(Pipeline&&) noexcept = default;
 const FrameResult& Pipeline::process(const PointCloud& cloud) { return process(PointView(cloud)); }
 
 const FrameResult& Pipeline::process(const PointView& cloud) {
+  Stopwatch watch;
+  projector_.project(cloud, result_.image);
+  return process_projected(cloud, watch.lap_ms());
+}
+
+const FrameResult& Pipeline::process(const FrameWindow& window) {
+  if (!WindowProjector::supports(options_.projection)) return process(window.view());
+  Stopwatch watch;
+  if (!window_projector_) window_projector_ = std::make_unique<WindowProjector>(options_.projection);
+  window_projector_->project(window, result_.image);
+  return process_projected(window.view(), watch.lap_ms());
+}
+
+const FrameResult& Pipeline::process_projected(const PointView& cloud, double project_ms) {
   FrameResult& r = result_;
   r.markers.clear();
   r.pose.reset();
   r.pose_missing_reason.clear();
+  r.times_ms.project = project_ms;
   Stopwatch watch;
-
-  projector_.project(cloud, r.image);
-  r.times_ms.project = watch.lap_ms();
 
   preprocess(r.image, options_.preprocess, r.preprocessed);
   r.times_ms.preprocess = watch.lap_ms();

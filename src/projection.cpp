@@ -1,15 +1,16 @@
 #include "iilfm/projection.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <limits>
 #include <string>
 
-#include "fast_math.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/ring_structure.hpp"
+#include "projection_passes.hpp"
 
 namespace iilfm {
 
@@ -45,6 +46,11 @@ Vec3 ImageGeometry::ray(double u, double v) const {
   const double elevation = elevation_of_v(v);
   const double c = std::cos(elevation);
   return Vec3(c * std::cos(azimuth), c * std::sin(azimuth), std::sin(elevation));
+}
+
+std::uint64_t next_projection_stamp() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
 }
 
 AngularBounds angular_extent(const PointCloud& cloud) {
@@ -99,26 +105,6 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
 
 namespace {
 
-// Pass 1 over contiguous or strided columns: spherical coordinates (paper Eq. 1). No reduction
-// in the loop, so GCC vectorises it for contiguous columns.
-template <typename Column>
-void spherical_coordinates(const Column& xs, const Column& ys, const Column& zs, std::size_t n,
-                           float* __restrict azimuth, float* __restrict elevation,
-                           float* __restrict range) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const float x = xs[i], y = ys[i], z = zs[i];
-    const float horizontal_sq = x * x + y * y;
-    azimuth[i] = detail::fast_atan2(y, x);
-    elevation[i] = detail::fast_atan2(z, std::sqrt(horizontal_sq));
-    range[i] = std::sqrt(horizontal_sq + z * z);
-  }
-}
-
-struct Contiguous {
-  const float* __restrict data;
-  float operator[](std::size_t i) const { return data[i]; }
-};
-
 AngularBounds extent_of(const float* azimuth, const float* elevation, const float* range,
                         std::size_t n) {
   float az_min = 10, az_max = -10, el_min = 10, el_max = -10;
@@ -133,34 +119,6 @@ AngularBounds extent_of(const float* azimuth, const float* elevation, const floa
   return AngularBounds{az_min, az_max, el_min, el_max};
 }
 
-// Pass 2 for uniform rows: each point's pixel (row-major index, -1 outside the image) and squared
-// distance to the pixel centre. Branch-free, so it vectorises. Returns the points outside.
-std::size_t pixels_of_points(const ImageGeometry& g, const float* __restrict azimuth,
-                             const float* __restrict elevation, const float* __restrict range,
-                             std::size_t n, std::int32_t* __restrict pixel,
-                             float* __restrict offset) {
-  const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
-  const float inv_res_h = static_cast<float>(1 / g.res_h),
-              inv_res_v = static_cast<float>(1 / g.res_v);
-  const float u_end = static_cast<float>(g.width) - 0.5f,
-              v_end = static_cast<float>(g.height) - 0.5f;
-  const std::int32_t width = g.width;
-  std::size_t outside = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float u = u0 - azimuth[i] * inv_res_h, v = v0 - elevation[i] * inv_res_v;
-    // Bitwise, not short-circuit: no branch in the loop.
-    const bool in = (range[i] > 0) & (u >= -0.5f) & (v >= -0.5f) & (u < u_end) & (v < v_end);
-    // Inside, both are >= -0.5, so truncating x + 0.5 rounds to nearest without a libm call.
-    const float uc = in ? u + 0.5f : 0.5f, vc = in ? v + 0.5f : 0.5f;
-    const std::int32_t col = static_cast<std::int32_t>(uc), row = static_cast<std::int32_t>(vc);
-    const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
-    pixel[i] = in ? row * width + col : -1;
-    offset[i] = du * du + dv * dv;
-    outside += in ? 0 : 1;
-  }
-  return outside;
-}
-
 }  // namespace
 
 void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
@@ -171,15 +129,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   pixel_.resize(n);
   offset_.resize(n);
 
-  const bool contiguous = cloud.x.stride == 1 && cloud.y.stride == 1 && cloud.z.stride == 1;
-  if (contiguous) {
-    spherical_coordinates(Contiguous{cloud.x.data}, Contiguous{cloud.y.data},
-                          Contiguous{cloud.z.data}, n, azimuth_.data(), elevation_.data(),
-                          range_.data());
-  } else {
-    spherical_coordinates(cloud.x, cloud.y, cloud.z, n, azimuth_.data(), elevation_.data(),
-                          range_.data());
-  }
+  detail::spherical_coordinates(cloud, azimuth_.data(), elevation_.data(), range_.data());
 
   const double res_h = options_.res_h_deg * kDegToRad, res_v = options_.res_v_deg * kDegToRad;
   // Ring rows: one row per laser, found from the ring field or the elevation clusters.
@@ -215,8 +165,8 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     bool placed = false;
     if (options_.field_of_view) {
       g = geometry_for(*options_.field_of_view);
-      const std::size_t outside = pixels_of_points(g, azimuth_.data(), elevation_.data(),
-                                                   range_.data(), n, pixel_.data(), offset_.data());
+      const std::size_t outside = detail::pixels_of_points(
+          g, azimuth_.data(), elevation_.data(), range_.data(), n, pixel_.data(), offset_.data());
       // Points outside the field of view that were measured: the preset does not fit the cloud.
       std::size_t unmeasured = 0;
       if (outside > 0)
@@ -225,8 +175,8 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     }
     if (!placed) {
       g = geometry_for(extent());
-      pixels_of_points(g, azimuth_.data(), elevation_.data(), range_.data(), n, pixel_.data(),
-                       offset_.data());
+      detail::pixels_of_points(g, azimuth_.data(), elevation_.data(), range_.data(), n,
+                               pixel_.data(), offset_.data());
     }
   } else {
     const AngularBounds cloud_extent = extent();
@@ -320,6 +270,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     count[p] = px.count;
   }
   out.points_projected = projected;
+  out.stamp = next_projection_stamp();
 }
 
 }  // namespace iilfm

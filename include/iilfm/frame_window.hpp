@@ -1,10 +1,12 @@
 // The last N frames of a recording and their union: the cloud the pipeline sees when frames are
 // integrated (Livox sensors need several to cover a marker). The window slides by one frame per
-// push. Today the union is rebuilt by concatenation after each push; an incremental projection can
-// replace that behind this interface.
+// push. Its points live in one buffer, oldest first, so the union is a view, never a
+// concatenation; the frame a push drops stays readable until the next push, so an incremental
+// projection can subtract it (Pipeline::process(const FrameWindow&)).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 
 #include "iilfm/types.hpp"
@@ -16,25 +18,43 @@ class FrameWindow {
   explicit FrameWindow(std::size_t frames);  // at least 1
 
   // Adds the newest frame; drops the oldest once the window holds N frames.
-  void push(PointCloud cloud, const CloudStats& stats);
+  void push(const PointCloud& cloud, const CloudStats& stats);
   bool full() const { return frames_.size() == capacity_; }
   std::size_t size() const { return frames_.size(); }
   std::size_t capacity() const { return capacity_; }
 
-  // The union of the frames held, oldest first. Ring and time are kept when every frame has them.
-  const PointCloud& cloud();
+  // The union of the frames held, oldest first (ring kept when every frame has it), valid until
+  // the next push.
+  PointView view() const { return view_of(begin_, end_); }
+  // The newest frame, and the frame the last push dropped (empty if none), as views.
+  PointView newest() const {
+    return frames_.empty() ? PointView{} : view_of(end_ - frames_.back().points, end_);
+  }
+  PointView dropped() const { return view_of(begin_ - dropped_points_, begin_); }
+  // Every point pushed gets the next running id; the window's oldest point has this one.
+  std::uint64_t first_point_id() const { return dropped_total_; }
+  // Pushes so far: a consumer that saw push k can update incrementally at push k + 1.
+  std::uint64_t pushes() const { return pushes_; }
+  // The union copied into a cloud of its own (ring and time kept when every frame has them).
+  PointCloud copy() const;
   // The frames' statistics summed.
   CloudStats stats() const;
 
  private:
   struct Held {
-    PointCloud cloud;
+    std::size_t points;
     CloudStats stats;
+    bool ring, time;
   };
+  PointView view_of(std::size_t begin, std::size_t end) const;
+  void make_room(std::size_t points);
+
   std::size_t capacity_;
   std::deque<Held> frames_;
-  PointCloud merged_;
-  bool merged_valid_ = false;
+  PointCloud buffer_;  // [begin_ - dropped_points_, end_) is live; the rest is free space
+  std::size_t begin_ = 0, end_ = 0, dropped_points_ = 0;
+  std::uint64_t pushes_ = 0;
+  std::uint64_t dropped_total_ = 0;  // points dropped by all pushes so far
 };
 
 }  // namespace iilfm

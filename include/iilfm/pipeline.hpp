@@ -13,6 +13,7 @@
 #include "iilfm/marker_map.hpp"
 #include "iilfm/preprocess.hpp"
 #include "iilfm/projection.hpp"
+#include "iilfm/window_projection.hpp"
 #include "iilfm/sensor.hpp"
 
 namespace iilfm {
@@ -82,12 +83,21 @@ class Pipeline {
   // The same over points in any layout, read in place; they must outlive the returned result's
   // use (its pixel->point index refers to them).
   const FrameResult& process(const PointView& points);
+  // The union of a sliding window of frames. With a fixed field of view (the Livox presets) the
+  // projection is updated incrementally from push to push (include/iilfm/window_projection.hpp);
+  // otherwise the union is projected as a whole. The window must not change while the result is
+  // used.
+  const FrameResult& process(const FrameWindow& window);
 
   const PipelineOptions& options() const { return options_; }
 
  private:
   PipelineOptions options_;
+  // Every stage after the projection, on the image in result_.
+  const FrameResult& process_projected(const PointView& cloud, double project_ms);
+
   SphericalProjector projector_;
+  std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
   FrameResult result_;
 };

@@ -90,9 +90,15 @@ struct ProjectedImage {
   cv::Mat count;      // CV_32S number of points in the pixel
   std::size_t points_projected = 0;
   std::string row_source = "uniform";  // "uniform", "ring field" or "elevation clusters"
+  // A new value with every projection written into this image, so an incremental projector can
+  // tell whether the image still holds its own last output.
+  std::uint64_t stamp = 0;
 
   bool observed(int col, int row) const { return mask.at<std::uint8_t>(row, col) != 0; }
 };
+
+// A process-wide unique value for ProjectedImage::stamp.
+std::uint64_t next_projection_stamp();
 
 // The angular extent of a cloud (points at the origin are ignored).
 AngularBounds angular_extent(const PointCloud& cloud);
