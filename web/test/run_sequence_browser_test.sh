@@ -16,11 +16,12 @@ fi
 mkdir -p "$out" "$web/test"
 # Next to web/node_modules, so that playwright-core resolves.
 cp "$here/browser.mjs" "$here/sequence_browser_test.mjs" "$web/test/"
-frames=12 away=7
+frames=12 turned=7  # in scan 7 the LiDAR faces backwards (360 degrees: it still sees the grid)
 pcds=()
 for ((k = 0; k < frames; ++k)); do
-  yaw=$(awk -v k=$k -v away=$away 'BEGIN { print (k == away ? 180 : -9 + 1.5 * k) }')
-  xyz=$(awk -v k=$k 'BEGIN { printf "%.3f %.3f %.3f", 0.1 + 0.09 * k, -0.5 + 0.08 * k, 0.6 + 0.1 * sin(k / 2) }')
+  yaw=$(awk -v k=$k -v turned=$turned 'BEGIN { print (k == turned ? 180 : -9 + 1.5 * k) }')
+  xyz=$(awk -v k=$k \
+    'BEGIN { printf "%.3f %.3f %.3f", 0.1 + 0.09 * k, -0.5 + 0.08 * k, 0.6 + 0.1 * sin(k / 2) }')
   "$cli" sim --scene grid --sensor ultrapuck --seed $((k + 1)) --lidar-xyz $xyz \
     --lidar-rpy 0.5 -1 "$yaw" --out "$out/scan$k.pcd" --map "$out/map.yaml" > /dev/null
   pcds+=("$out/scan$k.pcd")
