@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ctest `html_sequence_report_browser`: simulates an ULTRA Puck walking past the 7 x 5 tag grid
-# (12 scans, turning; one finds no marker, and one is made with the LiDAR turned round), writes
+# (8 scans, turning; one finds no marker, and in one the LiDAR faces backwards), writes
 # them into a ROS 1 bag, runs
 # `iilfm detect BAG --topic ... --jsonl --html` and checks the page in headless Chromium
 # (sequence_browser_test.mjs).
@@ -16,7 +16,7 @@ fi
 mkdir -p "$out" "$web/test"
 # Next to web/node_modules, so that playwright-core resolves.
 cp "$here/browser.mjs" "$here/sequence_browser_test.mjs" "$web/test/"
-frames=12 turned=7  # in scan 7 the LiDAR faces backwards (360 degrees: it still sees the grid)
+frames=8 turned=5  # in scan 7 the LiDAR faces backwards (360 degrees: it still sees the grid)
 pcds=()
 for ((k = 0; k < frames; ++k)); do
   yaw=$(awk -v k=$k -v turned=$turned 'BEGIN { print (k == turned ? 180 : -9 + 1.5 * k) }')
