@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import iilfm
-from conftest import cli_error, run_cli
+from conftest import SOURCE_DIR, cli_error, run_cli
 from test_detect import assert_same_as_cli
 
 
@@ -38,22 +38,24 @@ def walk(tmp_path_factory):
     return d
 
 
-def test_no_sensor_estimates_like_the_cli_rosette(scan):
+def test_no_sensor_estimates_like_the_cli_rosette(tmp_path):
     """Mid-40 (non-repetitive): resolution from the point density."""
-    out = scan["dir"] / "no_sensor.json"
-    run_cli("detect", scan["pcd"], "--map", scan["map"], "--json", out, "-q")
+    sample = SOURCE_DIR / "data" / "sample"
+    pcd, marker_map = sample / "mid40_tag_wall.pcd", sample / "mid40_tag_wall_map.yaml"
+    out = tmp_path / "no_sensor.json"
+    run_cli("detect", pcd, "--map", marker_map, "--json", out, "-q")
     cli = json.loads(out.read_text())
     assert cli["image"]["resolution"] == "estimated (point density)"
-    pipeline = iilfm.Pipeline(map=scan["map"])
+    pipeline = iilfm.Pipeline(map=marker_map)
     assert pipeline.resolution is None  # nothing to estimate from yet
-    result = pipeline.detect(iilfm.read_cloud(scan["pcd"]))
+    result = pipeline.detect(iilfm.read_cloud(pcd))
     assert_same_as_cli(result, cli)  # includes the image geometry and the resolution's source
-    assert len(result.markers) >= 10
+    assert [m.id for m in result.markers] == [0]
     assert pipeline.resolution["source"] == "estimated (point density)"
     assert pipeline.resolution["res_h_deg"] == pytest.approx(cli["image"]["res_h_deg"], abs=1e-9)
-    # Kept for later frames: a second scan does not change it.
+    # Kept for later frames: a sparser cloud does not change it.
     first = dict(pipeline.resolution)
-    pipeline.detect(iilfm.read_cloud(scan["pcd"]).xyzi()[::2])
+    pipeline.detect(iilfm.read_cloud(pcd).xyzi()[::4])
     assert pipeline.resolution == first
 
 
