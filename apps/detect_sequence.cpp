@@ -117,26 +117,26 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
       const Clock::time_point start = Clock::now();
       if (!source->next(frame)) break;
       ++counts.frames;
-      window.push(std::move(frame.loaded.cloud), frame.loaded.stats);
+      window.push(frame.loaded.cloud, frame.loaded.stats);
       window_indices.push_back(frame.index);
       if (window_indices.size() > window.capacity()) window_indices.erase(window_indices.begin());
       window_first = window_indices.front();
       if (!window.full()) continue;
 
-      const PointCloud& cloud = window.cloud();
+      const PointView cloud = window.view();
       const InputInfo info{frame.source, window.stats(), ms_since(start), ""};
       nlohmann::json line;
       if (cloud.empty()) {
         line = empty_result(info);
       } else {
         if (!pipeline) {
-          pipeline.emplace(make_options(cloud));
+          pipeline.emplace(make_options(window.copy()));
           if (html && pipeline->options().map) html->set_map(*pipeline->options().map);
         }
-        const FrameResult& result = pipeline->process(cloud);
+        const FrameResult& result = pipeline->process(window);
         line = result_to_json(result, info);
         if (html && shown_in_full(args, *html, frame.index, !result.markers.empty()))
-          html->show(HtmlFrame{&result, info, PointView(cloud)}, counts.results);
+          html->show(HtmlFrame{&result, info, cloud}, counts.results);
         if (!result.markers.empty()) ++counts.with_markers;
         if (result.pose) {
           ++counts.with_pose;

@@ -6,7 +6,9 @@
 #include <string>
 
 #include "bench_support.hpp"
+#include "iilfm/frame_window.hpp"
 #include "iilfm/io/cloud_io.hpp"
+#include "iilfm/window_projection.hpp"
 
 namespace iilfm {
 namespace {
@@ -86,7 +88,48 @@ void BM_LiftAndPose(benchmark::State& state, const std::string& name) {
   }
 }
 
+// A sliding 60-frame Mid-40 window, one push per iteration: the window's projection updated
+// incrementally (WindowProjector), re-projected whole (SphericalProjector), and the whole
+// pipeline on the window. The scan's 60 frames are cut into frames of equal size and cycled.
+std::vector<PointCloud> mid40_frames() {
+  const PointCloud& all = scan("mid40-60").scan.scan.cloud;
+  const std::size_t frames = 60, per = all.size() / frames;
+  std::vector<PointCloud> out(frames);
+  for (std::size_t f = 0; f < frames; ++f)
+    for (std::size_t i = f * per; i < (f + 1) * per; ++i)
+      out[f].push_back(all.x[i], all.y[i], all.z[i], all.intensity[i]);
+  return out;
+}
+
+void BM_WindowPush(benchmark::State& state) {
+  static const std::vector<PointCloud> frames = mid40_frames();
+  const PipelineOptions& options = scan("mid40-60").options;
+  const int mode = static_cast<int>(state.range(0));  // 0 incremental, 1 whole, 2 pipeline
+  FrameWindow window(frames.size());
+  for (const PointCloud& f : frames) window.push(f, {});
+  WindowProjector incremental(options.projection);
+  SphericalProjector whole(options.projection);
+  Pipeline pipeline(options);
+  ProjectedImage image;
+  std::size_t next = 0;
+  for (auto _ : state) {
+    window.push(frames[next++ % frames.size()], {});
+    if (mode == 0) incremental.project(window, image);
+    if (mode == 1) whole.project(window.view(), image);
+    if (mode == 2) benchmark::DoNotOptimize(pipeline.process(window).markers.size());
+  }
+  state.SetLabel(mode == 0   ? "incremental projection"
+                 : mode == 1 ? "whole projection"
+                             : "pipeline");
+}
+
 void register_all() {
+  benchmark::RegisterBenchmark("WindowPush/mid40-60", BM_WindowPush)
+      ->ArgName("mode")
+      ->Arg(0)
+      ->Arg(1)
+      ->Arg(2)
+      ->Unit(benchmark::kMillisecond);
   for (const std::string& name : bench::scan_names()) {
     benchmark::RegisterBenchmark(("Read/" + name).c_str(), BM_Read, name)
         ->Unit(benchmark::kMillisecond);

@@ -109,7 +109,8 @@ const FrameResult& Pipeline::process(const PointView& cloud) {
 const FrameResult& Pipeline::process(const FrameWindow& window) {
   if (!WindowProjector::supports(options_.projection)) return process(window.view());
   Stopwatch watch;
-  if (!window_projector_) window_projector_ = std::make_unique<WindowProjector>(options_.projection);
+  if (!window_projector_)
+    window_projector_ = std::make_unique<WindowProjector>(options_.projection);
   window_projector_->project(window, result_.image);
   return process_projected(window.view(), watch.lap_ms());
 }

@@ -13,8 +13,8 @@
 #include "iilfm/marker_map.hpp"
 #include "iilfm/preprocess.hpp"
 #include "iilfm/projection.hpp"
-#include "iilfm/window_projection.hpp"
 #include "iilfm/sensor.hpp"
+#include "iilfm/window_projection.hpp"
 
 namespace iilfm {
 

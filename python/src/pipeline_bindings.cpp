@@ -211,7 +211,7 @@ class PyPipeline {
         continue;
       }
       held.push(copy_of(in->view), in->stats);
-      if (held.full()) results.push_back(run(points_owning(held.cloud(), held.stats(), in->path)));
+      if (held.full()) results.push_back(run(points_owning(held.copy(), held.stats(), in->path)));
     }
     return results;
   }

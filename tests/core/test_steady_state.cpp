@@ -13,6 +13,7 @@
 #include "iilfm/preprocess.hpp"
 #include "iilfm/projection.hpp"
 #include "iilfm/sensor.hpp"
+#include "synthetic_frames.hpp"
 
 namespace {
 std::atomic<long> g_new_calls{0};
@@ -50,22 +51,6 @@ class CountingMatAllocator : public cv::MatAllocator {
   cv::MatAllocator* inner_;
 };
 
-// A Mid-40-like frame: directions inside the 38.4 deg cone, a wall at 2-6 m, random intensities.
-PointCloud livox_like_frame(std::uint32_t seed, std::size_t points) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> angle(-0.33f, 0.33f), range(2.0f, 6.0f),
-      intensity(0.f, 150.f);
-  PointCloud cloud;
-  while (cloud.size() < points) {
-    const float a = angle(rng), e = angle(rng);
-    if (a * a + e * e > 0.33f * 0.33f) continue;
-    const float r = range(rng);
-    cloud.push_back(r * std::cos(e) * std::cos(a), r * std::cos(e) * std::sin(a), r * std::sin(e),
-                    intensity(rng));
-  }
-  return cloud;
-}
-
 struct Allocations {
   long news = 0, mats = 0;
 };
@@ -84,7 +69,7 @@ TEST(SteadyState, ProjectionAndPreprocessingAllocateNothingOnceWarm) {
   // Frames of different sizes, as a real sensor delivers: the buffers grow to the largest once.
   std::vector<PointCloud> frames;
   for (std::uint32_t seed = 1; seed <= 4; ++seed)
-    frames.push_back(livox_like_frame(seed, 20000 + 1000 * seed));
+    frames.push_back(testing::livox_like_frame(seed, 20000 + 1000 * seed));
   auto run = [&](const PointCloud& frame) {
     const long news = g_new_calls.load(), mats = counting.allocations.load();
     projector.project(frame, image);
