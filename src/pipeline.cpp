@@ -131,6 +131,15 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
   for (Detection& d : detections)
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
+  // One order whatever the detectors' threads did: by family, id, then first corner.
+  std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) {
+    if (a.family != b.family) return a.family < b.family;
+    if (a.id != b.id) return a.id < b.id;
+    if (a.corners_px.empty() || b.corners_px.empty())
+      return a.corners_px.size() < b.corners_px.size();
+    return std::make_pair(a.corners_px[0].y(), a.corners_px[0].x()) <
+           std::make_pair(b.corners_px[0].y(), b.corners_px[0].x());
+  });
   detections.erase(std::remove_if(detections.begin(), detections.end(),
                                   [&](const Detection& d) {
                                     return undersampled(d, options_.min_samples_per_cell);

@@ -24,7 +24,7 @@ struct Detection {
 struct AprilTagOptions {
   float decimate = 1.0f;  // LiDAR images are small: full resolution by default
   float sigma = 0.0f;     // Gaussian blur of the segmentation image
-  int threads = 1;
+  int threads = 2;  // libapriltag worker threads (both cores of a small machine)
   bool refine_edges = true;
   double decode_sharpening = 0.25;
   int max_hamming = -1;  // bits to correct; -1 = per-family default (see docs/detectors.md)
