@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "iilfm/duplicates.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -123,6 +124,10 @@ const FrameResult& Pipeline::process(const PointView& cloud) {
                                     return undersampled(d, options_.min_samples_per_cell);
                                   }),
                    detections.end());
+  // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
+  drop_duplicate_detections(detections, [&](const Detection& d) {
+    return options_.map && options_.map->find(d.family, d.id) != nullptr;
+  });
   r.times_ms.detect = watch.lap_ms();
 
   for (Detection& detection : detections) {

@@ -26,12 +26,26 @@ bool has_prefix(const std::string& text, const std::string& prefix) {
                    ")");
 }
 
+// apriltag_to_image leaves every cell that is not a bit or the white border black, the corners of
+// a circle tag included; the official circle prints have no ink there. Cells whose centre lies
+// outside the circle inscribed in the image are paper (white), as printed.
+void clear_outside_circle(MarkerTexture& texture) {
+  const double radius = 0.5 * texture.total_width;
+  for (int row = 0; row < texture.total_width; ++row)
+    for (int col = 0; col < texture.total_width; ++col) {
+      const double dx = col + 0.5 - radius, dy = row + 0.5 - radius;
+      if (dx * dx + dy * dy > radius * radius)
+        texture.pixels[static_cast<std::size_t>(row * texture.total_width + col)] = 255;
+    }
+}
+
 MarkerTexture apriltag_texture(const std::string& name, int id) {
   AprilTagImage image = render_apriltag(name, id);
   MarkerTexture texture;
   texture.total_width = image.total_width;
   texture.width_at_border = image.width_at_border;
   texture.pixels = std::move(image.pixels);
+  if (name.rfind("tagCircle", 0) == 0) clear_outside_circle(texture);
   return texture;
 }
 
