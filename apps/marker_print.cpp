@@ -101,8 +101,8 @@ MarkerPrint render_marker_print(const MarkerPrintRequest& request) {
     cv::putText(print.image, line, cv::Point(gap, y), font, scale, cv::Scalar(0), thickness,
                 cv::LINE_AA);
   }
-  print.square = cv::Rect(left + origin, origin, static_cast<int>(square_px),
-                          static_cast<int>(square_px));
+  print.square =
+      cv::Rect(left + origin, origin, static_cast<int>(square_px), static_cast<int>(square_px));
   print.cell_px = static_cast<double>(square_px) / border;
   return print;
 }
@@ -166,8 +166,9 @@ void write_png_with_dpi(const std::string& path, const cv::Mat& image, double dp
   for (int shift = 24; shift >= 0; shift -= 8) chunk.push_back((crc >> shift) & 0xff);
   png.insert(png.begin() + 33, chunk.begin(), chunk.end());
   std::ofstream file(path, std::ios::binary);
-  if (!file || !file.write(reinterpret_cast<const char*>(png.data()),
-                           static_cast<std::streamsize>(png.size())) ||
+  if (!file ||
+      !file.write(reinterpret_cast<const char*>(png.data()),
+                  static_cast<std::streamsize>(png.size())) ||
       !file.flush())
     throw file_error(path, "cannot write the PNG");
 }

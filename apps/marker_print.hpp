@@ -15,8 +15,8 @@ struct MarkerPrintRequest {
 };
 
 struct MarkerPrint {
-  cv::Mat image;     // 8-bit grey: black ink on white paper, the caption below the marker
-  cv::Rect square;   // the reported square (FamilyLayout::border_width cells) in pixels
+  cv::Mat image;       // 8-bit grey: black ink on white paper, the caption below the marker
+  cv::Rect square;     // the reported square (FamilyLayout::border_width cells) in pixels
   double cell_px = 0;  // mean cell width in pixels
 };
 

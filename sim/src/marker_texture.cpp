@@ -2,11 +2,13 @@
 // OpenCV's drawMarker), so the simulated print is exactly what the detector expects.
 #include "iilfm/sim/marker_texture.hpp"
 
+#include <algorithm>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/aruco_dictionaries.hpp"
+#include "iilfm/charuco_boards.hpp"
 #include "iilfm/error.hpp"
 
 namespace iilfm::sim {
@@ -14,6 +16,7 @@ namespace {
 
 constexpr const char* kAprilTagPrefix = "apriltag:";
 constexpr const char* kArucoPrefix = "aruco:";
+constexpr const char* kCharucoPrefix = "charuco:";
 
 bool has_prefix(const std::string& text, const std::string& prefix) {
   return text.compare(0, prefix.size(), prefix) == 0;
@@ -69,6 +72,29 @@ MarkerTexture aruco_texture(const ArucoDictionaryEntry& entry, const std::string
   return texture;
 }
 
+// OpenCV's drawing of the board at one pixel per cell with one white cell around it, centred on a
+// square sheet (the texture is square): the sheet's centre is the board's centre, and one
+// chessboard square is the marker size.
+MarkerTexture charuco_texture(const std::string& family, int id) {
+  const CharucoBoardSpec spec =
+      parse_charuco_board(family.substr(std::string(kCharucoPrefix).size()));
+  // Texture cells are half cells when the board's sides differ by an odd number of cells, so
+  // the padding to a square sheet splits evenly.
+  const int scale = (spec.squares_x - spec.squares_y) * spec.square_cells() % 2 != 0 ? 2 : 1;
+  const cv::Mat board = draw_charuco_cells(spec, id, family, 1, scale);
+  const int side = std::max(board.cols, board.rows);
+  cv::Mat sheet;
+  cv::copyMakeBorder(board, sheet, (side - board.rows) / 2, (side - board.rows) / 2,
+                     (side - board.cols) / 2, (side - board.cols) / 2, cv::BORDER_CONSTANT,
+                     cv::Scalar(255));
+  MarkerTexture texture;
+  texture.total_width = side;
+  texture.width_at_border = spec.square_cells() * scale;
+  for (auto it = sheet.begin<std::uint8_t>(); it != sheet.end<std::uint8_t>(); ++it)
+    texture.pixels.push_back(*it < 128 ? 0 : 255);
+  return texture;
+}
+
 }  // namespace
 
 std::vector<std::string> apriltag_family_names() {
@@ -99,6 +125,8 @@ MarkerTexture render_marker_texture(const std::string& family, int id) {
     const ArucoDictionaryEntry* entry =
         find_aruco_dictionary(family.substr(std::string(kArucoPrefix).size()));
     if (entry) return aruco_texture(*entry, family, id);
+  } else if (has_prefix(family, kCharucoPrefix)) {
+    return charuco_texture(family, id);
   }
   unknown_family(family);
 }

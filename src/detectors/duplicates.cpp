@@ -39,14 +39,16 @@ std::size_t drop_duplicate_detections(std::vector<Detection>& detections,
       if (dropped[j] || detections[i].family == detections[j].family) continue;
       if (outline_overlap(detections[i], detections[j]) < min_overlap) continue;
       // The earlier detection (the family listed first) stays unless only the later is preferred.
-      const bool later_wins =
-          preferred && preferred(detections[j]) && !preferred(detections[i]);
+      const bool later_wins = preferred && preferred(detections[j]) && !preferred(detections[i]);
       dropped[later_wins ? i : j] = true;
     }
   }
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < detections.size(); ++i)
-    if (!dropped[i]) detections[kept++] = std::move(detections[i]);
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    if (dropped[i]) continue;
+    if (kept != i) detections[kept] = std::move(detections[i]);
+    ++kept;
+  }
   const std::size_t removed = detections.size() - kept;
   detections.resize(kept);
   return removed;

@@ -4,6 +4,7 @@
 #include "apriltag_detector.hpp"
 #include "aruco_detector.hpp"
 #include "aruco_dictionaries.hpp"
+#include "charuco_detector.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/detector.hpp"
 #include "iilfm/error.hpp"
@@ -42,6 +43,11 @@ const std::vector<Backend>& backends() {
          return names;
        },
        detail::aruco_layout},
+      {"charuco",
+       [](const std::string& f, const DetectorOptions& o) {
+         return detail::make_charuco_detector(f, o.aruco);
+       },
+       detail::charuco_example_families, detail::charuco_layout},
   };
   return table;
 }

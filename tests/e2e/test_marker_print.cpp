@@ -1,5 +1,6 @@
-// `iilfm marker print`: every family prints at the asked size (black square within a pixel of
-// size * dpi / 0.0254), carries its resolution, and decodes with iilfm's own detectors.
+// `iilfm marker print`: every family (and example ChArUco board) prints at the asked size (black
+// square within a pixel of size * dpi / 0.0254), carries its resolution, and decodes with iilfm's
+// own detectors.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <regex>
 
 #include "cli_run.hpp"
+#include "iilfm/charuco_boards.hpp"
 #include "iilfm/detector.hpp"
 
 namespace iilfm {
@@ -58,17 +60,21 @@ std::uint32_t big_endian(const std::string& bytes, std::size_t at) {
 TEST(MarkerPrint, EveryFamilyPrintsAtSizeAndDecodesWithItsId) {
   const double dpi = 150;
   const std::vector<std::string> families = known_families();
-  ASSERT_EQ(families.size(), 30u);
+  ASSERT_EQ(families.size(), 34u);  // 9 AprilTag, 21 ArUco, 4 example ChArUco boards
   for (const std::string& family : families) {
+    const bool board = family.rfind("charuco:", 0) == 0;
+    const int id = board ? 1 : 5;  // board 1 of DICT_4X4_50:5x7 uses marker ids 17..33
     const FamilyLayout layout = family_layout(family);
-    // About 12.3 px per cell: a size that is no whole number of pixels.
-    const double size = 12.3 * layout.border_width * kInch / dpi;
+    // About 7.3 px per cell (boards 5.3, LiDAR-like: the ArUco back-end's threshold windows of
+    // 3-23 px lose DICT_6X6 board markers above about 10 px per cell): a size that is no whole
+    // number of pixels.
+    const double size = (board ? 5.3 : 7.3) * layout.border_width * kInch / dpi;
     const double expected_px = size * dpi / kInch;
     const fs::path png = temp("print.png");
     char size_text[32];
     std::snprintf(size_text, sizeof size_text, "%.9f", size);
-    const CliRun r = run_cli("marker print " + family + " 5 --size " + size_text + " --dpi 150" +
-                             " --out " + png.string());
+    const CliRun r = run_cli("marker print " + family + " " + std::to_string(id) + " --size " +
+                             size_text + " --dpi 150 --out " + png.string());
     ASSERT_EQ(r.status, 0) << family << ": " << r.err;
 
     const cv::Mat image = cv::imread(png.string(), cv::IMREAD_GRAYSCALE);
@@ -76,9 +82,25 @@ TEST(MarkerPrint, EveryFamilyPrintsAtSizeAndDecodesWithItsId) {
     std::vector<Detection> found;
     make_detector(family)->detect(image, found);
     ASSERT_EQ(found.size(), 1u) << family;
-    EXPECT_EQ(found[0].id, 5) << family;
-    // The detector's corners span the reported square (all families, circle ones included).
-    EXPECT_NEAR(mean_edge(found[0].corners_px), expected_px, 1.0) << family;
+    EXPECT_EQ(found[0].id, id) << family;
+    if (board) {
+      // Most chessboard corners (markers with a bit at the threshold windows' limit may be
+      // lost), neighbours one square (the size) apart.
+      const CharucoBoardSpec spec = parse_charuco_board(family.substr(8));
+      const Detection& d = found[0];
+      EXPECT_GE(2 * d.corners_px.size(), static_cast<std::size_t>(spec.corners())) << family;
+      int pairs = 0;
+      for (std::size_t a = 0; a < d.corners_px.size(); ++a)
+        for (std::size_t b = 0; b < d.corners_px.size(); ++b)
+          if ((d.keypoints_marker[b] - d.keypoints_marker[a] - Vec2(1, 0)).norm() < 1e-9) {
+            EXPECT_NEAR((d.corners_px[b] - d.corners_px[a]).norm(), expected_px, 1.0) << family;
+            ++pairs;
+          }
+      EXPECT_GT(pairs, 0) << family;
+    } else {
+      // The detector's corners span the reported square (all families, circle ones included).
+      EXPECT_NEAR(mean_edge(found[0].corners_px), expected_px, 1.0) << family;
+    }
     // Where the reported square is the outermost ink (one white cell around it in the family's
     // own image), the pixels show it directly.
     if (layout.total_width - layout.border_width == 2) {
@@ -100,9 +122,9 @@ TEST(MarkerPrint, A300DpiTagDecodesThroughTheImageInputPath) {
   const CliRun r = run_cli("marker print apriltag:tag36h11 17 --size 0.05 --out " + png.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("square 591 px"), std::string::npos) << r.out;  // 0.05 m * 300 / 0.0254
-  const CliRun d = run_cli("detect " + png.string() +
-                           " --res-h 0.1 --res-v 0.1 --marker apriltag:tag36h11 -q --json " +
-                           json.string());
+  const CliRun d =
+      run_cli("detect " + png.string() +
+              " --res-h 0.1 --res-v 0.1 --marker apriltag:tag36h11 -q --json " + json.string());
   ASSERT_EQ(d.status, 0) << d.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(json));
   ASSERT_EQ(j["markers"].size(), 1u);
@@ -111,8 +133,8 @@ TEST(MarkerPrint, A300DpiTagDecodesThroughTheImageInputPath) {
 
 TEST(MarkerPrint, SvgBlackCellsSpanTheSquareInMillimetres) {
   const fs::path png = temp("svg.png"), svg = temp("svg.svg");
-  const CliRun r = run_cli("marker print aruco:DICT_5X5_100 42 --size 0.123 --out " +
-                           png.string() + " --svg " + svg.string());
+  const CliRun r = run_cli("marker print aruco:DICT_5X5_100 42 --size 0.123 --out " + png.string() +
+                           " --svg " + svg.string());
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string text = slurp(svg);
   const std::regex rect(
