@@ -27,7 +27,7 @@ std::string default_png_name(const MarkerPrintRequest& r) {
 }
 
 int run_print(PrintArgs& a) {
-  make_detector(a.request.family);  // names the family's back-end in the error when unknown
+  family_layout(a.request.family);  // names the family's back-end in the error when unknown
   const MarkerPrint print = render_marker_print(a.request);
   if (a.png_path.empty()) a.png_path = default_png_name(a.request);
   write_png_with_dpi(a.png_path, print.image, a.request.dpi);
