@@ -16,5 +16,6 @@ Runner register_sensors_command(CLI::App& app);
 Runner register_eval_command(CLI::App& app);
 Runner register_bag_command(CLI::App& app);
 Runner register_bench_command(CLI::App& app);
+Runner register_marker_command(CLI::App& app);
 
 }  // namespace iilfm::cli
