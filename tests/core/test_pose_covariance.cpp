@@ -153,14 +153,14 @@ MarkerCorrespondence marker(const std::vector<Vec3>& lidar) {
 TEST(LidarPoseHonesty, RefusesAPoseWithAResidualOverTheBound) {
   MarkerCorrespondence m = marker({});
   m.lidar = m.world;
-  m.lidar[0] += Vec3(0, 0.1, 0.1);  // a corner 14 cm off: the square is not a square
+  m.lidar[0] += Vec3(0, 0.05, 0);  // a corner 5 cm off: about 2 cm RMS
   LidarPoseOptions options;
-  options.max_rms_m = 0.05;
+  options.max_rms_m = 0.01;
   const LidarPoseResult r = estimate_lidar_pose({m}, options);
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(r.rejected);
-  EXPECT_NE(r.failure.find("exceeds the bound 50 mm"), std::string::npos) << r.failure;
-  options.max_rms_m = 0.2;
+  EXPECT_NE(r.failure.find("exceeds the bound 10 mm"), std::string::npos) << r.failure;
+  options.max_rms_m = 0.05;
   EXPECT_TRUE(estimate_lidar_pose({m}, options).ok);
 }
 
