@@ -170,8 +170,8 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
       out << "  rejected " << m.key << ": " << m.residual_m * 1000
           << " mm from where the other markers put it (wrong id, moved, or map error?)\n";
   } else {
-    out << "LiDAR pose: " << (r.pose_rejected ? "refused" : "none") << " ("
-        << r.pose_missing_reason << ")\n";
+    out << "LiDAR pose: " << (r.pose_rejected ? "refused" : "none") << " (" << r.pose_missing_reason
+        << ")\n";
   }
   out << "time: " << r.times_ms.total() << " ms (without reading)\n";
   out.unsetf(std::ios::fixed);

@@ -142,8 +142,8 @@ EdgeRefinement refine_edges_to_mid_level(const std::vector<Vec2>& corners_px,
     const Side& s = sides[k];
     const Side& previous = sides[(k + 3) % 4];
     const std::optional<Vec2> corner =
-        meet(s.a + shift[k] * s.normal, s.b - s.a, previous.a + shift[(k + 3) % 4] * previous.normal,
-             previous.b - previous.a);
+        meet(s.a + shift[k] * s.normal, s.b - s.a,
+             previous.a + shift[(k + 3) % 4] * previous.normal, previous.b - previous.a);
     if (!corner || (*corner - corners_px[k]).norm() > 2 * std::max(s.cell, previous.cell))
       return result;
     refined[k] = *corner;

@@ -62,8 +62,8 @@ Stacked stack(const std::vector<MarkerCorrespondence>& markers, const std::vecto
   return s;
 }
 
-RigidFit fit_markers(const std::vector<MarkerCorrespondence>& markers,
-                     const std::vector<bool>& use, bool weighted = false) {
+RigidFit fit_markers(const std::vector<MarkerCorrespondence>& markers, const std::vector<bool>& use,
+                     bool weighted = false) {
   const Stacked s = stack(markers, use, weighted);
   return fit_rigid(s.world, s.lidar, s.weights);
 }

@@ -1,7 +1,7 @@
 #include "iilfm/pose_covariance.hpp"
 
-#include <algorithm>
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 
 #include "iilfm/pose.hpp"
@@ -82,7 +82,8 @@ Mat6 rigid_fit_covariance(const std::vector<Vec3>& source, const std::vector<Vec
                           bool inverse) {
   const std::size_t n = target.size();
   Mat6 C = Mat6::Zero();
-  if (target_cov.rows() != static_cast<Eigen::Index>(3 * n) || target_cov.cols() != target_cov.rows())
+  if (target_cov.rows() != static_cast<Eigen::Index>(3 * n) ||
+      target_cov.cols() != target_cov.rows())
     return C;
   const auto solve = [&](const std::vector<Vec3>& t, Isometry3& out) {
     const RigidFit fit = fit_rigid(source, t, weights);
@@ -119,7 +120,8 @@ Vec3 rpy_std_deg(const Isometry3& T, const Mat6& C) {
   constexpr double kStep = 1e-6;
   Mat3 J;
   for (int a = 0; a < 3; ++a) {
-    const Vec3 plus = rpy_deg(T.linear() * Eigen::AngleAxisd(kStep, Vec3::Unit(a)).toRotationMatrix());
+    const Vec3 plus =
+        rpy_deg(T.linear() * Eigen::AngleAxisd(kStep, Vec3::Unit(a)).toRotationMatrix());
     const Vec3 minus =
         rpy_deg(T.linear() * Eigen::AngleAxisd(-kStep, Vec3::Unit(a)).toRotationMatrix());
     for (int r = 0; r < 3; ++r) J(r, a) = wrap_deg(plus(r) - minus(r)) / (2 * kStep);

@@ -1,7 +1,7 @@
 // Scoring one frame: match detections to the true markers in the image, then compare corners,
 // marker poses and the LiDAR pose with the truth.
-#include <algorithm>
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 

@@ -52,7 +52,7 @@ struct MarkerResult {
   // the LiDAR pose is fitted to these, so its residual still measures the detection.
   std::vector<Vec3> lifted_points;
   std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
-  double marker_fit_rms = 0;   // residual of that fit, metres: how far from a square of that size
+  double marker_fit_rms = 0;  // residual of that fit, metres: how far from a square of that size
   // Covariance of T_lidar_marker, 6x6 (pose_covariance.hpp: marker-frame rotation, centre in the
   // LiDAR frame), and the joint covariance (3n x 3n) of the n lifted corners it was fitted to
   // (the valid ones, in order), which the LiDAR pose takes over.

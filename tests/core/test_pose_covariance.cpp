@@ -83,7 +83,7 @@ TEST(PoseCovariance, MatchesMonteCarloForCornersOnAnUncertainPlane) {
   plane.centre = s.T.translation();
   plane.axis1 = s.T.linear() * Vec3::UnitX();
   plane.axis2 = s.T.linear() * Vec3::UnitY();
-  plane.offset_variance = 1e-6;                       // 1 mm along the normal
+  plane.offset_variance = 1e-6;                        // 1 mm along the normal
   plane.slope_variance = Eigen::Vector2d(4e-4, 1e-4);  // 1.1 and 0.6 deg of tilt
   const Eigen::MatrixXd C = plane_corner_covariance(s.corners, plane, 0.001);
   // The plane moves the corners along their rays: correlated, rank-deficient, so draw through
@@ -189,8 +189,7 @@ TEST(LidarPoseHonesty, CovarianceComesFromTheCornersCovariance) {
   ASSERT_TRUE(r.ok) << r.failure;
   // Rotation about the LiDAR's z: in-plane for the marker at x = 4, from 4 corners 0.122 m from
   // its centre: sigma = 1 mm / sqrt(4 * 0.122^2) = 4.1 mrad.
-  EXPECT_NEAR(std::sqrt(r.pose.covariance(0, 0)), 0.001 / std::sqrt(4 * 2 * 0.086 * 0.086),
-              1e-4);
+  EXPECT_NEAR(std::sqrt(r.pose.covariance(0, 0)), 0.001 / std::sqrt(4 * 2 * 0.086 * 0.086), 1e-4);
   // Position along x is the marker's distance: 0.5 mm from 4 corners.
   EXPECT_NEAR(translation_std(r.pose.covariance).x(), 0.0005, 1e-5);
 }

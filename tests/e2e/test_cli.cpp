@@ -133,9 +133,9 @@ TEST(Cli, PoseOverTheResidualBoundIsRefused) {
   const fs::path d = cli_temp_dir();
   const std::string pcd = (d / "strict.pcd").string(), map = (d / "strict.yaml").string(),
                     json = (d / "strict.json").string();
-  ASSERT_EQ(run_cli("sim --scene tag-wall --frames 20 --seed 2 --out " + pcd + " --map " + map)
-                .status,
-            0);
+  ASSERT_EQ(
+      run_cli("sim --scene tag-wall --frames 20 --seed 2 --out " + pcd + " --map " + map).status,
+      0);
   CliRun r = run_cli("detect " + pcd + " --sensor mid40 --map " + map +
                      " --max-pose-rms 0.000001 --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;

@@ -22,8 +22,7 @@ SetupResult run_setup(std::size_t quick_index) {
   for (std::uint64_t s = 1; s <= kSeeds; ++s) options.seeds.push_back(s);
   options.lifts = {LiftMethod::kPlane};
   const SuiteResult r = run_suite("quick", {named_suite("quick").at(quick_index)}, options);
-  std::cout << "[ measured ] " << summary_line(r.results.at(0)) << "\n"
-            << uncertainty_markdown(r);
+  std::cout << "[ measured ] " << summary_line(r.results.at(0)) << "\n" << uncertainty_markdown(r);
   return r.results.at(0);
 }
 

@@ -49,7 +49,7 @@ struct CaseScore {
   // Mean side length of the lifted corners (before any known-size fit) minus the true size:
   // the shrink or growth of the detected square, metres.
   double size_error_mean = 0;
-  int marker_poses = 0;                                // detected markers with T_lidar_marker
+  int marker_poses = 0;  // detected markers with T_lidar_marker
   double marker_position_error_mean = 0, marker_rotation_error_mean_deg = 0;
   // The claimed uncertainty against these errors: sigma = root of the covariance's trace (the RMS
   // error the covariance predicts, position in metres, rotation in degrees); NEES = the 6-dof
@@ -59,7 +59,7 @@ struct CaseScore {
   bool pose = false;                                  // a LiDAR pose was estimated
   double position_error = 0, rotation_error_deg = 0;  // of T_world_lidar
   double position_sigma = 0, rotation_sigma_deg = 0, pose_nees = 0;
-  double time_ms = 0;                                 // pipeline stages
+  double time_ms = 0;  // pipeline stages
 };
 
 CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth);
