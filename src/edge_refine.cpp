@@ -94,14 +94,15 @@ EdgeRefinement refine_edges_to_mid_level(const std::vector<Vec2>& corners_px,
     sides.push_back(*s);
   }
 
-  // The levels: the middle of the black border (half a cell inside) and of the quiet zone (half a
-  // cell outside), away from the corners.
+  // The levels: the middle of the black border (half a cell inside) and of the one-cell quiet zone
+  // (0.6 cell outside: a detected side that sits inside the true edge would otherwise put the
+  // white samples within the footprint's reach of the black), away from the corners.
   std::vector<double> black, white;
   for (const Side& s : sides) {
     for (int i = 0; i < kSamplesAlong; ++i) {
       const double along = 0.15 + 0.7 * i / (kSamplesAlong - 1);
       if (auto v = intensity_at(image, point_on(s, along, -0.5))) black.push_back(*v);
-      if (auto v = intensity_at(image, point_on(s, along, 0.5))) white.push_back(*v);
+      if (auto v = intensity_at(image, point_on(s, along, 0.6))) white.push_back(*v);
     }
   }
   if (black.size() < 8 || white.size() < 8) return result;

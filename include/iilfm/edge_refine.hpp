@@ -14,7 +14,7 @@ namespace iilfm {
 struct EdgeRefinement {
   bool ok = false;               // false: levels or edges not measurable, corners unchanged
   std::vector<Vec2> corners_px;  // the refined quad (projected-image coordinates)
-  double black = 0, white = 0;   // the marker's levels: medians inside its border and outside it
+  double black = 0, white = 0;   // the marker's levels: medians in its border and quiet zone
   double mean_shift_px = 0;      // mean outward move of the four sides (negative: inwards)
 };
 
