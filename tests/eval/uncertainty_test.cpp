@@ -14,7 +14,7 @@ namespace {
 #ifdef NDEBUG
 constexpr std::uint64_t kSeeds = 16;
 #else
-constexpr std::uint64_t kSeeds = 3;
+constexpr std::uint64_t kSeeds = 1;
 #endif
 
 SetupResult run_setup(std::size_t quick_index) {
