@@ -19,6 +19,7 @@ constexpr std::uint64_t kSeeds = 1;
 
 SetupResult run_setup(std::size_t quick_index) {
   SuiteOptions options;
+  options.seeds.clear();
   for (std::uint64_t s = 1; s <= kSeeds; ++s) options.seeds.push_back(s);
   options.lifts = {LiftMethod::kPlane};
   const SuiteResult r = run_suite("quick", {named_suite("quick").at(quick_index)}, options);
