@@ -17,6 +17,7 @@
 #include "iilfm/option_names.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
+#include "iilfm/pose_covariance.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/report_html.hpp"
 #include "iilfm/resolution.hpp"
@@ -33,12 +34,15 @@ struct DetectArgs {
   std::vector<std::string> markers;
   std::string map_path;
   double marker_size = 0;
+  int min_pose_corners = static_cast<int>(LidarPoseOptions{}.min_corners);
+  double max_pose_rms = LidarPoseOptions{}.max_rms_m;
   int frames = 1;
   std::string threshold;
   std::string lift = "plane";
   std::string collision = "mean";
   std::string rows;
   bool no_square_pixels = false;
+  bool no_edge_refine = false;
   double blur = 0;
   bool gray_input = false;
   float decimate = 1;
@@ -115,6 +119,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
 
   set_rows(args.rows, options);
   options.preprocess.square_pixels = !args.no_square_pixels;
+  options.edge_refine = !args.no_edge_refine;
   set_collision(args.collision, options);
   set_lift(args.lift, options);
 
@@ -130,6 +135,8 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.aruco.window_step = args.aruco_window_step;
   if (args.marker_size > 0) options.marker_size = args.marker_size;
   if (!args.map_path.empty()) options.map = MarkerMap::load(args.map_path);
+  options.pose.min_corners = static_cast<std::size_t>(args.min_pose_corners);
+  options.pose.max_rms_m = args.max_pose_rms;
   return options;
 }
 
@@ -156,11 +163,16 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
     out << "LiDAR pose in world: xyz (" << t.x() << ", " << t.y() << ", " << t.z() << ") m, rpy ("
         << rpy.x() << ", " << rpy.y() << ", " << rpy.z() << ") deg, rms " << r.pose->rms * 1000
         << " mm from " << r.pose->markers_used.size() << " marker(s)\n";
+    const Vec3 sd_t = translation_std(r.pose->covariance) * 1000;
+    const Vec3 sd_r = rpy_std_deg(r.pose->T_world_lidar, r.pose->covariance);
+    out << "  1 sigma: xyz (" << sd_t.x() << ", " << sd_t.y() << ", " << sd_t.z() << ") mm, rpy ("
+        << sd_r.x() << ", " << sd_r.y() << ", " << sd_r.z() << ") deg\n";
     for (const RejectedMarker& m : r.pose->markers_rejected)
       out << "  rejected " << m.key << ": " << m.residual_m * 1000
           << " mm from where the other markers put it (wrong id, moved, or map error?)\n";
   } else {
-    out << "LiDAR pose: none (" << r.pose_missing_reason << ")\n";
+    out << "LiDAR pose: " << (r.pose_rejected ? "refused" : "none") << " (" << r.pose_missing_reason
+        << ")\n";
   }
   out << "time: " << r.times_ms.total() << " ms (without reading)\n";
   out.unsetf(std::ios::fixed);
@@ -267,6 +279,12 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--map", args->map_path, "Marker map YAML: enables the LiDAR pose");
   cmd->add_option("--marker-size", args->marker_size,
                   "Edge of the black square (m) of markers not in the map: enables T_lidar_marker");
+  cmd->add_option("--min-pose-corners", args->min_pose_corners,
+                  "Fewest mapped corners a LiDAR pose needs (default 4; at least 3 are used)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--max-pose-rms", args->max_pose_rms,
+                  "Largest corner RMS residual (m) of a reported LiDAR pose (default 0.05)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--frames", args->frames,
                   "Integrate N frames: a folder alone gives one result for its first N files; "
                   "sequences slide an N-frame window")
@@ -279,6 +297,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
   cmd->add_option("--rows", args->rows,
                   "Image rows: rings (one per laser; spinning presets) or uniform (res-v apart)");
+  cmd->add_flag("--no-edge-refine", args->no_edge_refine,
+                "Lift the detector's corners as found, without moving the sides to halfway "
+                "between the marker's black and white levels");
   cmd->add_flag("--no-square-pixels", args->no_square_pixels,
                 "Give detectors the projected rows as they are (the paper's image)");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");

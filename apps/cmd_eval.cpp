@@ -20,6 +20,7 @@ struct EvalArgs {
   int seeds = 5;
   std::uint64_t first_seed = 1;
   bool markdown = false, footprint = false, quiet = false;
+  bool no_edge_refine = false, weight_corners = false;
   double dark_dropout = 0, invalid_fraction = 0;
   std::vector<std::string> range_sensors;
   std::vector<double> range_sizes;
@@ -56,6 +57,8 @@ int run_eval(const EvalArgs& a) {
   require(probability(a.dark_dropout), "--dark-dropout must be a probability in [0, 1]");
   require(probability(a.invalid_fraction), "--invalid-fraction must be a fraction in [0, 1]");
   options.footprint = a.footprint;
+  options.tweaks.edge_refine = !a.no_edge_refine;
+  options.tweaks.weight_corners = a.weight_corners;
   options.dark_dropout = a.dark_dropout;
   options.invalid_fraction = a.invalid_fraction;
   std::ofstream json_out;
@@ -112,6 +115,10 @@ Runner register_eval_command(CLI::App& app) {
   sub->add_option("--invalid-fraction", a.invalid_fraction,
                   "Fraction of beams emitted as NaN points (dropped before detection)")
       ->capture_default_str();
+  sub->add_flag("--no-edge-refine", a.no_edge_refine,
+                "Lift the detector's corners as found (no move of the sides to the mid level)");
+  sub->add_flag("--weight-corners", a.weight_corners,
+                "Weigh corners by their variance in the LiDAR pose fit");
   sub->add_flag("-q,--quiet", a.quiet, "No progress lines");
   return [args]() { return run_eval(*args); };
 }

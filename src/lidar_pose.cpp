@@ -24,15 +24,61 @@ double tolerance(const MarkerCorrespondence& m, const LidarPoseOptions& options)
   return options.max_marker_residual_m + options.max_marker_residual_per_metre * centre.norm();
 }
 
-RigidFit fit_markers(const std::vector<MarkerCorrespondence>& markers,
-                     const std::vector<bool>& use) {
+// The used markers' corners stacked, with their joint covariance (block diagonal over markers;
+// left empty when a marker's is unknown) and, when asked, inverse-variance weights.
+struct Stacked {
   std::vector<Vec3> world, lidar;
+  std::vector<double> weights;
+  Eigen::MatrixXd covariance;
+};
+
+Stacked stack(const std::vector<MarkerCorrespondence>& markers, const std::vector<bool>& use,
+              bool weighted) {
+  Stacked s;
+  bool known = true;
   for (std::size_t i = 0; i < markers.size(); ++i) {
     if (!use[i]) continue;
-    world.insert(world.end(), markers[i].world.begin(), markers[i].world.end());
-    lidar.insert(lidar.end(), markers[i].lidar.begin(), markers[i].lidar.end());
+    const MarkerCorrespondence& m = markers[i];
+    s.world.insert(s.world.end(), m.world.begin(), m.world.end());
+    s.lidar.insert(s.lidar.end(), m.lidar.begin(), m.lidar.end());
+    known = known && m.lidar_covariance.rows() == static_cast<Eigen::Index>(3 * m.lidar.size());
   }
-  return fit_rigid(world, lidar);
+  if (!known) return s;
+  const Eigen::Index n = static_cast<Eigen::Index>(3 * s.lidar.size());
+  s.covariance = Eigen::MatrixXd::Zero(n, n);
+  Eigen::Index at = 0;
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    if (!use[i]) continue;
+    const Eigen::MatrixXd& c = markers[i].lidar_covariance;
+    s.covariance.block(at, at, c.rows(), c.cols()) = c;
+    at += c.rows();
+  }
+  if (weighted) {
+    for (Eigen::Index k = 0; k < n / 3; ++k) {
+      const double variance = s.covariance.block<3, 3>(3 * k, 3 * k).trace();
+      s.weights.push_back(variance > 0 ? 1 / variance : 1.0);
+    }
+  }
+  return s;
+}
+
+RigidFit fit_markers(const std::vector<MarkerCorrespondence>& markers, const std::vector<bool>& use,
+                     bool weighted = false) {
+  const Stacked s = stack(markers, use, weighted);
+  return fit_rigid(s.world, s.lidar, s.weights);
+}
+
+// Without known corner covariances: every coordinate's noise from the fit's residual, over the
+// 3n - 6 degrees of freedom left.
+Eigen::MatrixXd residual_covariance(const std::vector<Vec3>& world, const std::vector<Vec3>& lidar,
+                                    const Isometry3& T_lidar_world) {
+  const std::size_t n = world.size();
+  double sum_sq = 0;
+  for (std::size_t k = 0; k < n; ++k) sum_sq += (T_lidar_world * world[k] - lidar[k]).squaredNorm();
+  const double dof = std::max(1.0, 3.0 * static_cast<double>(n) - 6);
+  return Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(3 * n),
+                                   static_cast<Eigen::Index>(3 * n)) *
+         (sum_sq / dof);
 }
 
 std::vector<bool> consistent_with(const std::vector<MarkerCorrespondence>& markers,
@@ -68,6 +114,7 @@ LidarPoseResult estimate_lidar_pose(const std::vector<MarkerCorrespondence>& mar
     result.failure = "no mapped marker detected";
     return result;
   }
+  result.rejected = true;  // from here on, every failure is a refusal of what was found
   if (corners < needed) {
     result.failure = "only " + std::to_string(corners) +
                      " mapped corners could be lifted to 3-D (need " + std::to_string(needed) + ")";
@@ -104,6 +151,10 @@ LidarPoseResult estimate_lidar_pose(const std::vector<MarkerCorrespondence>& mar
       fit = fit_markers(markers, use);
     }
   }
+  if (fit.ok && options.weight_corners) {
+    const RigidFit weighted = fit_markers(markers, use, true);
+    if (weighted.ok) fit = weighted;
+  }
   if (!fit.ok) {
     result.failure = "mapped corners are collinear";
     return result;
@@ -124,8 +175,22 @@ LidarPoseResult estimate_lidar_pose(const std::vector<MarkerCorrespondence>& mar
       pose.markers_rejected.push_back({markers[i].key, residual});
     }
   }
+  if (pose.corners_used < needed) {
+    result.failure = "only " + std::to_string(pose.corners_used) +
+                     " corners in the markers that agree (need " + std::to_string(needed) + ")";
+    return result;
+  }
+  if (!(fit.rms <= options.max_rms_m)) {
+    result.failure = "corner RMS residual " + mm(fit.rms) + " exceeds the bound " +
+                     mm(options.max_rms_m) + " (--max-pose-rms)";
+    return result;
+  }
   pose.T_world_lidar = fit.T.inverse();
   pose.rms = fit.rms;
+  Stacked s = stack(markers, use, options.weight_corners);
+  if (s.covariance.size() == 0) s.covariance = residual_covariance(s.world, s.lidar, fit.T);
+  pose.covariance = rigid_fit_covariance(s.world, s.lidar, s.weights, s.covariance, true);
+  result.rejected = false;
   result.ok = true;
   return result;
 }

@@ -5,8 +5,10 @@
 #include <cmath>
 
 #include "iilfm/duplicates.hpp"
+#include "iilfm/edge_refine.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/pose.hpp"
+#include "iilfm/pose_covariance.hpp"
 #include "iilfm/square_pixels.hpp"
 
 namespace iilfm {
@@ -30,7 +32,11 @@ class Stopwatch {
 // and all four corners lifted, the corners are replaced by the least-squares square of that size
 // in the fitted pose (their independent errors average out); the fit's RMS says how far the
 // detection was from that square.
-void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square) {
+// The covariance of the fitted pose comes from the plane fit's uncertainty and the in-plane
+// scatter of the corners about the best affine image of the square (a shrink moves no pose), with
+// a prior of a tenth of a pixel; without a plane, from the residual alone.
+void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
+                          const ImageGeometry& geometry) {
   const std::vector<Vec3> model = marker_frame_keypoints(marker.detection, size);
   std::vector<Vec3> source, target;
   for (std::size_t k = 0; k < marker.corners.size() && k < model.size(); ++k) {
@@ -42,6 +48,19 @@ void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square) {
   if (!fit.ok) return;
   marker.T_lidar_marker = fit.T;
   marker.marker_fit_rms = fit.rms;
+  if (marker.plane && marker.plane->ok) {
+    const double pixel_m = std::min(geometry.res_h, geometry.res_v) * fit.T.translation().norm();
+    const double residual_sq = affine_residual_sq(source, target, fit.T);
+    const double sigma = in_plane_sigma(residual_sq, target.size(), 0.1 * pixel_m);
+    marker.corner_covariance = plane_corner_covariance(target, *marker.plane, sigma);
+  } else {
+    const double dof = std::max(1.0, 3.0 * static_cast<double>(target.size()) - 6);
+    const double variance = fit.rms * fit.rms * static_cast<double>(target.size()) / dof;
+    const auto n = static_cast<Eigen::Index>(3 * target.size());
+    marker.corner_covariance = Eigen::MatrixXd::Identity(n, n) * variance;
+  }
+  marker.T_lidar_marker_covariance =
+      rigid_fit_covariance(source, target, {}, marker.corner_covariance, false);
   if (fit_square && source.size() == 4 && marker.corners.size() == 4 &&
       marker.detection.keypoints_marker.empty()) {
     for (std::size_t k = 0; k < 4; ++k) {
@@ -135,6 +154,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   r.markers.clear();
   r.pose.reset();
   r.pose_missing_reason.clear();
+  r.pose_rejected = false;
   r.times_ms.project = project_ms;
   Stopwatch watch;
 
@@ -146,15 +166,6 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
   for (Detection& d : detections)
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
-  // One order whatever the detectors' threads did: by family, id, then first corner.
-  std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) {
-    if (a.family != b.family) return a.family < b.family;
-    if (a.id != b.id) return a.id < b.id;
-    if (a.corners_px.empty() || b.corners_px.empty())
-      return a.corners_px.size() < b.corners_px.size();
-    return std::make_pair(a.corners_px[0].y(), a.corners_px[0].x()) <
-           std::make_pair(b.corners_px[0].y(), b.corners_px[0].x());
-  });
   detections.erase(std::remove_if(detections.begin(), detections.end(),
                                   [&](const Detection& d) {
                                     return undersampled(d, options_.min_samples_per_cell);
@@ -164,10 +175,28 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;
   });
+  // One order whatever the detectors' threads did: families as listed, then id, then position.
+  const auto rank = [&](const Detection& d) {
+    return std::find(options_.families.begin(), options_.families.end(), d.family) -
+           options_.families.begin();
+  };
+  std::stable_sort(detections.begin(), detections.end(),
+                   [&](const Detection& a, const Detection& b) {
+                     if (rank(a) != rank(b)) return rank(a) < rank(b);
+                     if (a.id != b.id) return a.id < b.id;
+                     if (a.corners_px.empty() || b.corners_px.empty()) return false;
+                     return std::make_pair(a.corners_px[0].y(), a.corners_px[0].x()) <
+                            std::make_pair(b.corners_px[0].y(), b.corners_px[0].x());
+                   });
   r.times_ms.detect = watch.lap_ms();
 
   for (Detection& detection : detections) {
     MarkerResult marker;
+    if (options_.edge_refine) {
+      const EdgeRefinement edges = refine_edges_to_mid_level(
+          detection.corners_px, r.image, family_layout(detection.family).border_width);
+      if (edges.ok) detection.corners_px = edges.corners_px;
+    }
     if (options_.lift == LiftMethod::kPlane) {
       marker.plane =
           fit_marker_plane(keypoint_outline(detection), r.image, cloud, options_.plane_fit);
@@ -183,7 +212,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     marker.in_map = mapped != nullptr;
     const std::optional<double> size =
         mapped ? std::optional<double>(mapped->size) : options_.marker_size;
-    if (size) estimate_marker_pose(marker, *size, options_.fit_known_size);
+    if (size) estimate_marker_pose(marker, *size, options_.fit_known_size, r.image.geometry);
     r.markers.push_back(std::move(marker));
   }
   r.times_ms.lift = watch.lap_ms();
@@ -195,7 +224,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (const MarkerResult& marker : r.markers) {
       if (!marker.in_map) continue;
       const MapMarker* mapped = options_.map->find(marker.detection.family, marker.detection.id);
-      MarkerCorrespondence c{mapped->key(), {}, {}};
+      MarkerCorrespondence c{mapped->key(), {}, {}, {}};
       const std::vector<Vec3> world = world_keypoints(marker.detection, *mapped);
       for (std::size_t k = 0; k < marker.corners.size() && k < world.size(); ++k) {
         if (!marker.corners[k].valid()) continue;
@@ -203,13 +232,16 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
         c.lidar.push_back(marker.lifted_points.empty() ? marker.corners[k].point
                                                        : marker.lifted_points[k]);
       }
+      c.lidar_covariance = marker.corner_covariance;
       if (!c.world.empty()) correspondences.push_back(std::move(c));
     }
     LidarPoseResult estimate = estimate_lidar_pose(correspondences, options_.pose);
-    if (estimate.ok)
+    if (estimate.ok) {
       r.pose = std::move(estimate.pose);
-    else
+    } else {
       r.pose_missing_reason = std::move(estimate.failure);
+      r.pose_rejected = estimate.rejected;
+    }
   }
   r.times_ms.pose = watch.lap_ms();
   return r;

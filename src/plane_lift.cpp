@@ -27,9 +27,29 @@ Plane fit_plane(const std::vector<Vec3>& points) {
   plane.d = plane.normal.dot(centre);
   double sum_sq = 0;
   for (const Vec3& p : points) sum_sq += std::pow(plane.normal.dot(p) - plane.d, 2);
-  plane.rms = std::sqrt(sum_sq / static_cast<double>(points.size()));
+  const double n = static_cast<double>(points.size());
+  plane.rms = std::sqrt(sum_sq / n);
   plane.inliers = points.size();
   plane.ok = true;
+  // Uncertainty from the residuals themselves (heteroscedasticity-consistent, White's sandwich):
+  // the points are not equally noisy (a pixel's point may be the mean of several returns, and a
+  // rosette is densest at its centre), so the far, sparse points that fix the slope must count
+  // with their own scatter. Scaled by n / (n - 3) for the 3 fitted parameters.
+  plane.centre = centre;
+  plane.axis1 = eig.eigenvectors().col(1);
+  plane.axis2 = eig.eigenvectors().col(2);
+  double s1 = 0, s2 = 0, h1 = 0, h2 = 0;
+  for (const Vec3& p : points) {
+    const double r2 = std::pow(plane.normal.dot(p) - plane.d, 2);
+    const double x1 = (p - centre).dot(plane.axis1), x2 = (p - centre).dot(plane.axis2);
+    s1 += x1 * x1;
+    s2 += x2 * x2;
+    h1 += x1 * x1 * r2;
+    h2 += x2 * x2 * r2;
+  }
+  const double dof_scale = points.size() > 3 ? n / (n - 3) : 0;
+  plane.offset_variance = dof_scale * sum_sq / (n * n);
+  plane.slope_variance = Eigen::Vector2d(dof_scale * h1 / (s1 * s1), dof_scale * h2 / (s2 * s2));
   return plane;
 }
 
@@ -158,17 +178,36 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
     std::size_t coplanar = 0;
     for (const Vec3& p : ring) coplanar += std::abs(plane.normal.dot(p) - plane.d) <= band;
     if (coplanar < options.min_coplanar_fraction * static_cast<double>(ring.size())) continue;
+    // Coplanar: take the ring's points within 4 of its own robust sigmas. The marker's band is
+    // too narrow for the ring when the ring's pixels average fewer returns (a rosette is densest
+    // at its centre): cutting the ring's tails about the marker's own, tilted plane pulls the
+    // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
+    std::vector<double> offsets;
+    for (const Vec3& p : ring) offsets.push_back(std::abs(plane.normal.dot(p) - plane.d));
+    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
+    const double ring_band = std::max(band, 4 * 1.4826 * offsets[offsets.size() / 2]);
     std::vector<Vec3> all = marker_points;
     for (const Vec3& p : ring)
-      if (std::abs(plane.normal.dot(p) - plane.d) <= band) all.push_back(p);
+      if (std::abs(plane.normal.dot(p) - plane.d) <= ring_band) all.push_back(p);
     Plane wide = robust_plane(all, options, nullptr);
     if (!wide.ok) continue;
     // The normal from the wide fit; the offset from the marker's own points, so a sheet standing a
     // little proud of its wall (a board, a thick print) keeps its own depth.
     double offset = 0;
-    for (const Vec3& p : marker_points) offset += wide.normal.dot(p);
-    wide.d = offset / static_cast<double>(marker_points.size());
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& p : marker_points) {
+      offset += wide.normal.dot(p);
+      centre += p;
+    }
+    const double n_marker = static_cast<double>(marker_points.size());
+    wide.d = offset / n_marker;
     wide.surround_scale = scale;
+    // The offset is the marker points' mean (the variance of a mean of their residuals), the
+    // slopes the wide fit's, about the marker's centroid.
+    double sum_sq = 0;
+    for (const Vec3& p : marker_points) sum_sq += std::pow(wide.normal.dot(p) - wide.d, 2);
+    wide.offset_variance = sum_sq / (n_marker * std::max(1.0, n_marker - 1));
+    wide.centre = centre / n_marker;
     return wide;
   }
   return plane;

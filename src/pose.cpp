@@ -1,28 +1,35 @@
 #include "iilfm/pose.hpp"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 namespace iilfm {
 
-RigidFit fit_rigid(const std::vector<Vec3>& source, const std::vector<Vec3>& target) {
+RigidFit fit_rigid(const std::vector<Vec3>& source, const std::vector<Vec3>& target,
+                   const std::vector<double>& weights) {
   RigidFit fit;
   const std::size_t n = source.size();
-  if (n < 3 || target.size() != n) return fit;
+  if (n < 3 || target.size() != n || (!weights.empty() && weights.size() != n)) return fit;
+  auto weight = [&](std::size_t i) { return weights.empty() ? 1.0 : weights[i]; };
 
   Vec3 mean_s = Vec3::Zero(), mean_t = Vec3::Zero();
+  double total = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    mean_s += source[i];
-    mean_t += target[i];
+    if (!(weight(i) >= 0)) return fit;
+    mean_s += weight(i) * source[i];
+    mean_t += weight(i) * target[i];
+    total += weight(i);
   }
-  mean_s /= static_cast<double>(n);
-  mean_t /= static_cast<double>(n);
+  if (!(total > 0)) return fit;
+  mean_s /= total;
+  mean_t /= total;
 
   Mat3 cross = Mat3::Zero();
   double spread = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    cross += (target[i] - mean_t) * (source[i] - mean_s).transpose();
-    spread += (source[i] - mean_s).squaredNorm();
+    cross += weight(i) * (target[i] - mean_t) * (source[i] - mean_s).transpose();
+    spread += weight(i) * (source[i] - mean_s).squaredNorm();
   }
   Eigen::JacobiSVD<Mat3> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
   const Vec3 singular = svd.singularValues();

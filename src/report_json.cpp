@@ -1,6 +1,9 @@
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "iilfm/pose.hpp"
+#include "iilfm/pose_covariance.hpp"
 #include "iilfm/report.hpp"
 
 namespace iilfm {
@@ -11,6 +14,13 @@ using nlohmann::json;
 
 // Rounds for output: 0.1 mm / 1e-6 keeps files readable without losing real precision.
 double round_to(double value, double step) { return std::round(value / step) * step; }
+
+// Four significant digits.
+std::string format_g(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
 
 json matrix_json(const Isometry3& T) {
   json rows = json::array();
@@ -25,6 +35,21 @@ json matrix_json(const Isometry3& T) {
 
 json vec_json(const Vec3& v, double step) {
   return json::array({round_to(v.x(), step), round_to(v.y(), step), round_to(v.z(), step)});
+}
+
+// A pose's uncertainty: the 6x6 covariance row-major (rx, ry, rz in rad, right perturbation in
+// the pose's own frame; x, y, z in m) and the standard deviations it gives.
+void add_uncertainty(json& out, const Isometry3& T, const Mat6& C) {
+  json rows = json::array();
+  for (int r = 0; r < 6; ++r) {
+    json row = json::array();
+    // Relative rounding: variances span 1e-12 (sub-mm) to 1e-2.
+    for (int c = 0; c < 6; ++c) row.push_back(std::stod(format_g(C(r, c))));
+    rows.push_back(row);
+  }
+  out["covariance"] = rows;
+  out["std_xyz_m"] = vec_json(translation_std(C), 1e-7);
+  out["std_rpy_deg"] = vec_json(rpy_std_deg(T, C), 1e-5);
 }
 
 json marker_json(const MarkerResult& m) {
@@ -50,6 +75,7 @@ json marker_json(const MarkerResult& m) {
   if (m.T_lidar_marker) {
     out["T_lidar_marker"] = matrix_json(*m.T_lidar_marker);
     out["marker_fit_rms_m"] = round_to(m.marker_fit_rms, 1e-6);
+    add_uncertainty(out, *m.T_lidar_marker, m.T_lidar_marker_covariance);
   } else {
     out["T_lidar_marker"] = nullptr;
   }
@@ -96,9 +122,11 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
     for (const RejectedMarker& m : p.markers_rejected)
       rejected.push_back({{"marker", m.key}, {"residual_m", round_to(m.residual_m, 1e-6)}});
     out["pose"]["markers_rejected"] = rejected;
+    add_uncertainty(out["pose"], p.T_world_lidar, p.covariance);
   } else {
     out["pose"] = nullptr;
     out["pose_missing_reason"] = result.pose_missing_reason;
+    if (result.pose_rejected) out["pose_rejected"] = {{"reason", result.pose_missing_reason}};
   }
   const StageTimes& t = result.times_ms;
   out["timing_ms"] = {{"read", round_to(input.read_ms, 1e-3)},

@@ -106,8 +106,11 @@ PipelineOptions pipeline_options_for(const SimulatedCase& c, LiftMethod lift) {
   return options;
 }
 
-CaseScore run_case(const SimulatedCase& c, LiftMethod lift) {
-  Pipeline pipeline(pipeline_options_for(c, lift));
+CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks& tweaks) {
+  PipelineOptions options = pipeline_options_for(c, lift);
+  options.edge_refine = tweaks.edge_refine;
+  options.pose.weight_corners = tweaks.weight_corners;
+  Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }
 

@@ -21,12 +21,19 @@ json case_json(std::uint64_t seed, const CaseScore& c) {
           {"corners", c.corners},
           {"corner_error_mean_m", c.corner_error_mean},
           {"corner_error_max_m", c.corner_error_max},
+          {"size_error_m", c.size_error_mean},
           {"marker_poses", c.marker_poses},
           {"marker_position_error_m", c.marker_position_error_mean},
           {"marker_rotation_error_deg", c.marker_rotation_error_mean_deg},
           {"pose", c.pose},
           {"position_error_m", c.position_error},
           {"rotation_error_deg", c.rotation_error_deg},
+          {"marker_position_sigma_m", c.marker_position_sigma_mean},
+          {"marker_rotation_sigma_deg", c.marker_rotation_sigma_mean_deg},
+          {"marker_nees", c.marker_nees_mean},
+          {"position_sigma_m", c.position_sigma},
+          {"rotation_sigma_deg", c.rotation_sigma_deg},
+          {"pose_nees", c.pose_nees},
           {"time_ms", c.time_ms}};
 }
 
@@ -38,6 +45,7 @@ json summary_json(const Summary& s) {
           {"wrong_ids", s.wrong_ids},
           {"poses", s.poses},
           {"corner_error_m", stat_json(s.corner_error)},
+          {"size_error_m", stat_json(s.size_error)},
           {"marker_position_error_m", stat_json(s.marker_position)},
           {"marker_rotation_error_deg", stat_json(s.marker_rotation_deg)},
           {"position_error_m", stat_json(s.position)},

@@ -58,7 +58,9 @@ std::string summary_line(const SetupResult& r) {
       << ", false positives " << s.false_positives << ", wrong ids " << s.wrong_ids
       << ", vertex error mm " << mm(s.corner_error) << ", marker pose mm " << mm(s.marker_position)
       << " deg " << deg(s.marker_rotation_deg) << ", LiDAR pose " << s.poses << "/" << s.cases
-      << " mm " << mm(s.position) << " deg " << deg(s.rotation_deg) << ", "
+      << " mm " << mm(s.position) << " deg " << deg(s.rotation_deg)
+      << format(", error/claimed sigma: LiDAR position %.2f rotation %.2f, ",
+                s.position_claim.ratio(), s.rotation_claim.ratio())
       << format("%.1f ms", s.time_ms.mean());
   return out.str();
 }
@@ -88,6 +90,33 @@ std::string to_markdown(const SuiteResult& suite) {
         << " | " << deg(s.rotation_deg) << " |\n";
   }
   if (!published.empty()) out << "\n" << published << "\n";
+  out << "\n" << uncertainty_markdown(suite);
+  return out.str();
+}
+
+std::string uncertainty_markdown(const SuiteResult& suite) {
+  std::ostringstream out;
+  out << "**Claimed uncertainty against the observed error** (RMS error over seeds / RMS claimed "
+         "sigma = ratio, near 1 when the covariance is right; NEES: mean 6-dof normalised error "
+         "squared, 6 expected)\n\n"
+      << "| set-up | lift | marker position mm | marker rotation deg | marker NEES | LiDAR "
+         "position mm | LiDAR rotation deg | LiDAR NEES |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
+  const auto claim = [](const Consistency& c, double scale, const char* f) {
+    if (c.count == 0) return std::string("-");
+    return format(f, c.rms_error() * scale) + " / " + format(f, c.rms_sigma() * scale) + " (" +
+           format("%.2f", c.ratio()) + ")";
+  };
+  for (const SetupResult& r : suite.results) {
+    const Summary& s = r.summary;
+    if (s.marker_position_claim.count == 0 && s.position_claim.count == 0) continue;
+    out << "| " << r.setup.name << " | " << lift_name(r.lift) << " | "
+        << claim(s.marker_position_claim, 1000, "%.2f") << " | "
+        << claim(s.marker_rotation_claim, 1, "%.3f") << " | "
+        << format("%.1f", s.marker_position_claim.mean_nees()) << " | "
+        << claim(s.position_claim, 1000, "%.1f") << " | " << claim(s.rotation_claim, 1, "%.3f")
+        << " | " << format("%.1f", s.position_claim.mean_nees()) << " |\n";
+  }
   return out.str();
 }
 

@@ -1,5 +1,6 @@
 // Scoring one frame: match detections to the true markers in the image, then compare corners,
 // marker poses and the LiDAR pose with the truth.
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -30,6 +31,25 @@ MarkerInImage in_image(const ImageGeometry& g, const sim::MarkerTruth& m) {
   return out;
 }
 
+// The error of `estimated` in the covariance's convention (pose_covariance.hpp), the predicted
+// RMS position (m) and rotation (deg) errors, and the normalised error squared.
+struct Claimed {
+  double position_sigma = 0, rotation_sigma_deg = 0, nees = 0;
+};
+
+Claimed claimed(const Isometry3& estimated, const Isometry3& truth, const Mat6& C) {
+  Eigen::Matrix<double, 6, 1> e;
+  const Eigen::AngleAxisd turn(estimated.linear().transpose() * truth.linear());
+  e.head<3>() = turn.angle() * turn.axis();
+  e.tail<3>() = truth.translation() - estimated.translation();
+  Claimed out;
+  out.position_sigma = std::sqrt(std::max(0.0, C.bottomRightCorner<3, 3>().trace()));
+  out.rotation_sigma_deg = std::sqrt(std::max(0.0, C.topLeftCorner<3, 3>().trace())) * kRadToDeg;
+  const Eigen::LDLT<Mat6> ldlt(C);
+  out.nees = ldlt.info() == Eigen::Success ? e.dot(ldlt.solve(e)) : 0;
+  return out;
+}
+
 Vec2 centroid(const std::vector<Vec2>& points) {
   Vec2 sum = Vec2::Zero();
   for (const Vec2& p : points) sum += p;
@@ -48,6 +68,9 @@ CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth) 
   }
   std::vector<bool> found(truth.markers.size(), false);
   double corner_sum = 0, marker_position_sum = 0, marker_rotation_sum = 0;
+  double size_error_sum = 0;
+  int sized = 0;
+  double marker_position_sigma_sum = 0, marker_rotation_sigma_sum = 0, marker_nees_sum = 0;
 
   for (const MarkerResult& detected : result.markers) {
     const Vec2 centre = centroid(detected.detection.corners_px);
@@ -77,24 +100,52 @@ CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth) 
       s.corner_error_max = std::max(s.corner_error_max, error);
       ++s.corners;
     }
+    if (detected.corners.size() == 4 &&
+        std::all_of(detected.corners.begin(), detected.corners.end(),
+                    [](const LiftedCorner& c) { return c.valid(); })) {
+      double measured = 0, truth_size = 0;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const auto corner = [&](std::size_t i) {
+          return detected.lifted_points.size() == 4 ? detected.lifted_points[i]
+                                                    : detected.corners[i].point;
+        };
+        measured += (corner((k + 1) % 4) - corner(k)).norm() / 4;
+        truth_size += (m.corners_lidar[(k + 1) % 4] - m.corners_lidar[k]).norm() / 4;
+      }
+      size_error_sum += measured - truth_size;
+      ++sized;
+    }
     if (detected.T_lidar_marker) {
       marker_position_sum +=
           (detected.T_lidar_marker->translation() - m.T_lidar_marker.translation()).norm();
       marker_rotation_sum +=
           rotation_angle_deg(detected.T_lidar_marker->linear(), m.T_lidar_marker.linear());
+      const Claimed c =
+          claimed(*detected.T_lidar_marker, m.T_lidar_marker, detected.T_lidar_marker_covariance);
+      marker_position_sigma_sum += c.position_sigma;
+      marker_rotation_sigma_sum += c.rotation_sigma_deg;
+      marker_nees_sum += c.nees;
       ++s.marker_poses;
     }
   }
   if (s.corners > 0) s.corner_error_mean = corner_sum / s.corners;
+  if (sized > 0) s.size_error_mean = size_error_sum / sized;
   if (s.marker_poses > 0) {
     s.marker_position_error_mean = marker_position_sum / s.marker_poses;
     s.marker_rotation_error_mean_deg = marker_rotation_sum / s.marker_poses;
+    s.marker_position_sigma_mean = marker_position_sigma_sum / s.marker_poses;
+    s.marker_rotation_sigma_mean_deg = marker_rotation_sigma_sum / s.marker_poses;
+    s.marker_nees_mean = marker_nees_sum / s.marker_poses;
   }
   if (result.pose) {
     s.pose = true;
     const Isometry3& estimated = result.pose->T_world_lidar;
     s.position_error = (estimated.translation() - truth.T_world_lidar.translation()).norm();
     s.rotation_error_deg = rotation_angle_deg(estimated.linear(), truth.T_world_lidar.linear());
+    const Claimed c = claimed(estimated, truth.T_world_lidar, result.pose->covariance);
+    s.position_sigma = c.position_sigma;
+    s.rotation_sigma_deg = c.rotation_sigma_deg;
+    s.pose_nees = c.nees;
   }
   return s;
 }

@@ -113,6 +113,13 @@ void Stat::add(double value, double worst_value) {
   worst = std::max(worst, worst_value);
 }
 
+void Consistency::add(double error, double sigma, double nees_value) {
+  ++count;
+  error_sq += error * error;
+  sigma_sq += sigma * sigma;
+  nees += nees_value;
+}
+
 Summary summarize(const std::vector<CaseScore>& cases) {
   Summary s;
   for (const CaseScore& c : cases) {
@@ -122,14 +129,21 @@ Summary summarize(const std::vector<CaseScore>& cases) {
     s.false_positives += c.false_positives;
     s.wrong_ids += c.wrong_ids;
     if (c.corners > 0) s.corner_error.add(c.corner_error_mean, c.corner_error_max);
+    if (c.corners >= 4) s.size_error.add(c.size_error_mean);
     if (c.marker_poses > 0) {
       s.marker_position.add(c.marker_position_error_mean);
       s.marker_rotation_deg.add(c.marker_rotation_error_mean_deg);
+      s.marker_position_claim.add(c.marker_position_error_mean, c.marker_position_sigma_mean,
+                                  c.marker_nees_mean);
+      s.marker_rotation_claim.add(c.marker_rotation_error_mean_deg,
+                                  c.marker_rotation_sigma_mean_deg, c.marker_nees_mean);
     }
     if (c.pose) {
       ++s.poses;
       s.position.add(c.position_error);
       s.rotation_deg.add(c.rotation_error_deg);
+      s.position_claim.add(c.position_error, c.position_sigma, c.pose_nees);
+      s.rotation_claim.add(c.rotation_error_deg, c.rotation_sigma_deg, c.pose_nees);
     }
     s.time_ms.add(c.time_ms);
   }
@@ -160,7 +174,7 @@ SuiteResult run_suite(const std::string& name, const std::vector<SuiteSetup>& se
       const SimulatedCase simulated = simulate_case(spec, seed);
       for (std::size_t l = 0; l < options.lifts.size(); ++l) {
         per_lift[l].seeds.push_back(seed);
-        per_lift[l].cases.push_back(run_case(simulated, options.lifts[l]));
+        per_lift[l].cases.push_back(run_case(simulated, options.lifts[l], options.tweaks));
       }
     }
     for (SetupResult& r : per_lift) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "iilfm/pose_covariance.hpp"
 #include "iilfm/types.hpp"
 
 namespace iilfm {
@@ -15,6 +16,9 @@ struct MarkerCorrespondence {
   std::string key;          // "family/id"
   std::vector<Vec3> world;  // map corners whose lifted counterpart exists
   std::vector<Vec3> lidar;  // the lifted corners, same order
+  // Joint covariance of `lidar` (3n x 3n, metres^2); empty when unknown (then the fit's residual
+  // stands in for every corner's noise).
+  Eigen::MatrixXd lidar_covariance;
 };
 
 struct RejectedMarker {
@@ -28,10 +32,19 @@ struct LidarPose {
   std::vector<std::string> markers_used;  // "family/id"
   std::vector<RejectedMarker> markers_rejected;
   std::size_t corners_used = 0;
+  // 6x6 over (rx, ry, rz, x, y, z) of T_world_lidar (pose_covariance.hpp): right-perturbation
+  // rotation in the LiDAR frame (rad), LiDAR position in the world (m).
+  Mat6 covariance = Mat6::Zero();
 };
 
 struct LidarPoseOptions {
-  std::size_t min_corners = 4;  // fewer lifted, mapped corners: no pose
+  // Fewer lifted, mapped corners in the accepted markers: no pose (4: one marker seen whole).
+  std::size_t min_corners = 4;
+  // A pose whose corner RMS residual exceeds this is not reported (metres).
+  double max_rms_m = 0.05;
+  // Weigh each corner by the inverse of its variance (the trace of its covariance block) in the
+  // Kabsch fit; off: every corner alike.
+  bool weight_corners = false;
   // A marker is consistent with a pose when its corners' RMS residual is under
   // base + per_metre * (its distance): corner errors grow with range.
   double max_marker_residual_m = 0.03;
@@ -42,6 +55,9 @@ struct LidarPoseResult {
   bool ok = false;
   LidarPose pose;
   std::string failure;  // why there is no pose
+  // No pose although mapped markers were found: refused for too few corners, a residual over the
+  // bound, markers disagreeing, or collinear corners (`failure` says which).
+  bool rejected = false;
 };
 
 // Kabsch on all consistent markers' corners. With three or more markers, each marker's own pose is

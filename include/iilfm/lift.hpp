@@ -50,6 +50,20 @@ struct Plane {
   double surround_scale = 1;  // > 1: the normal came from the coplanar surround this many times
                               // the marker's size
   bool ok = false;
+  // Uncertainty: near `centre` the fitted plane's offset along the normal at x is
+  //   h(x) = a + b1 (x - centre).axis1 + b2 (x - centre).axis2,
+  // with (a, b1, b2) zero-mean, independent, of variances `offset_variance` (m^2) and
+  // `slope_variance` (per axis), from the inliers' residual variance and their scatter.
+  Vec3 centre = Vec3::Zero();
+  Vec3 axis1 = Vec3::UnitY(), axis2 = Vec3::UnitZ();
+  double offset_variance = 0;
+  Eigen::Vector2d slope_variance = Eigen::Vector2d::Zero();
+  // Covariance of h(a) and h(b): how much two points of the plane move together along the normal.
+  double offset_covariance(const Vec3& a, const Vec3& b) const {
+    const Vec3 da = a - centre, db = b - centre;
+    return offset_variance + slope_variance(0) * da.dot(axis1) * db.dot(axis1) +
+           slope_variance(1) * da.dot(axis2) * db.dot(axis2);
+  }
 };
 
 struct PlaneFitOptions {

@@ -37,6 +37,10 @@ struct PipelineOptions {
   // When a marker's size is known (map or marker_size), report the square of that size fitted to
   // its four lifted corners instead of the corners themselves.
   bool fit_known_size = true;
+  // Move each detected side to where the intensity crosses halfway between the marker's own
+  // black and white levels (edge_refine.hpp) before lifting: removes the shrink or growth a
+  // global threshold gives blurred (beam-footprint) edges.
+  bool edge_refine = true;
   // Drop detections whose black square spans fewer projected rows or columns than this many per
   // cell: they were decoded from resampled or filled pixels (0 = keep all).
   double min_samples_per_cell = 1.0;
@@ -49,7 +53,12 @@ struct MarkerResult {
   // the LiDAR pose is fitted to these, so its residual still measures the detection.
   std::vector<Vec3> lifted_points;
   std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
-  double marker_fit_rms = 0;   // residual of that fit, metres: how far from a square of that size
+  double marker_fit_rms = 0;  // residual of that fit, metres: how far from a square of that size
+  // Covariance of T_lidar_marker, 6x6 (pose_covariance.hpp: marker-frame rotation, centre in the
+  // LiDAR frame), and the joint covariance (3n x 3n) of the n lifted corners it was fitted to
+  // (the valid ones, in order), which the LiDAR pose takes over.
+  Mat6 T_lidar_marker_covariance = Mat6::Zero();
+  Eigen::MatrixXd corner_covariance;
   std::optional<Plane> plane;  // the fitted marker plane (plane lifting)
   bool in_map = false;
 };
@@ -65,6 +74,9 @@ struct FrameResult {
   std::vector<MarkerResult> markers;
   std::optional<LidarPose> pose;
   std::string pose_missing_reason;  // why pose is empty (no map, no mapped marker, too few corners)
+  // Mapped markers were found but their pose was refused (too few corners, residual over
+  // max_rms_m, markers disagreeing): pose_missing_reason says why.
+  bool pose_rejected = false;
   StageTimes times_ms;
 };
 

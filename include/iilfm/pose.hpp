@@ -16,8 +16,10 @@ struct RigidFit {
 
 // Closed-form least-squares rotation and translation (Kabsch / Umeyama without scale) with
 // T * source[i] ~ target[i]. Always a proper rotation: a reflection is never returned, even
-// when the point sets are mirror images of each other.
-RigidFit fit_rigid(const std::vector<Vec3>& source, const std::vector<Vec3>& target);
+// when the point sets are mirror images of each other. `weights` (empty: all 1) weigh each pair's
+// squared residual (weighted Procrustes); `rms` stays the unweighted residual.
+RigidFit fit_rigid(const std::vector<Vec3>& source, const std::vector<Vec3>& target,
+                   const std::vector<double>& weights = {});
 
 // Corners of a square marker of edge `size` in its own frame (centre origin, x right, y up,
 // z out of the face): top-left, top-right, bottom-right, bottom-left.

@@ -1,6 +1,7 @@
 // The `iilfm` program as users run it: sim -> detect -> JSON, and one-line errors with exit 2.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -68,6 +69,28 @@ TEST(Cli, SimThenDetectWritesTheContractJson) {
     EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), t["T_world_lidar"][a][3].get<double>(), 0.03);
   EXPECT_EQ(j["pose"]["quat_xyzw"].size(), 4u);
   EXPECT_EQ(j["pose"]["markers_used"][0], "apriltag:tag36h11/0");
+  // Uncertainty: 6x6 covariance, symmetric, positive variances, and the stds it gives.
+  const auto& cov = j["pose"]["covariance"];
+  ASSERT_EQ(cov.size(), 6u);
+  for (int r = 0; r < 6; ++r) {
+    ASSERT_EQ(cov[r].size(), 6u);
+    EXPECT_GT(cov[r][r].get<double>(), 0) << r;
+    for (int c = 0; c < 6; ++c)
+      EXPECT_NEAR(cov[r][c].get<double>(), cov[c][r].get<double>(),
+                  1e-3 * std::abs(cov[r][c].get<double>()));
+  }
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(j["pose"]["std_xyz_m"][a].get<double>(), std::sqrt(cov[3 + a][3 + a].get<double>()),
+                1e-6);
+    // A 17 cm tag at 2 m: millimetres and tenths of a degree, not metres or nothing.
+    EXPECT_GT(j["pose"]["std_xyz_m"][a].get<double>(), 1e-5);
+    EXPECT_LT(j["pose"]["std_xyz_m"][a].get<double>(), 0.02);
+    EXPECT_LT(j["pose"]["std_rpy_deg"][a].get<double>(), 1.0);
+  }
+  EXPECT_EQ(m["covariance"].size(), 6u);
+  EXPECT_EQ(m["std_xyz_m"].size(), 3u);
+  EXPECT_EQ(m["std_rpy_deg"].size(), 3u);
+  EXPECT_FALSE(j.contains("pose_rejected"));
   for (const char* stage : {"read", "project", "preprocess", "detect", "lift", "pose", "total"})
     EXPECT_TRUE(j["timing_ms"].contains(stage)) << stage;
 }
@@ -102,6 +125,35 @@ TEST(Cli, NoMapMeansPoseNullWithAReason) {
   EXPECT_TRUE(j["pose"].is_null());
   EXPECT_EQ(j["pose_missing_reason"], "no marker map given");
   EXPECT_TRUE(j["markers"][0]["T_lidar_marker"].is_null());  // size unknown without map or flag
+}
+
+// A pose that misses the configured quality is refused: pose null and the reason, never a pose
+// that cannot be backed.
+TEST(Cli, PoseOverTheResidualBoundIsRefused) {
+  const fs::path d = cli_temp_dir();
+  const std::string pcd = (d / "strict.pcd").string(), map = (d / "strict.yaml").string(),
+                    json = (d / "strict.json").string();
+  ASSERT_EQ(
+      run_cli("sim --scene tag-wall --frames 20 --seed 2 --out " + pcd + " --map " + map).status,
+      0);
+  CliRun r = run_cli("detect " + pcd + " --sensor mid40 --map " + map +
+                     " --max-pose-rms 0.000001 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("LiDAR pose: refused (corner RMS residual"), std::string::npos) << r.out;
+  nlohmann::json j = nlohmann::json::parse(slurp(json));
+  EXPECT_TRUE(j["pose"].is_null());
+  const std::string reason = j["pose_rejected"]["reason"];
+  EXPECT_NE(reason.find("exceeds the bound 0.001 mm"), std::string::npos) << reason;
+  EXPECT_EQ(j["pose_missing_reason"], reason);
+  ASSERT_EQ(j["markers"].size(), 1u);  // the detection itself is still reported
+
+  r = run_cli("detect " + pcd + " --sensor mid40 --map " + map +
+              " --min-pose-corners 5 -q --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_TRUE(j["pose"].is_null());
+  EXPECT_NE(j["pose_rejected"]["reason"].get<std::string>().find("need 5"), std::string::npos);
+  expect_input_error("detect " + pcd + " --sensor mid40 --max-pose-rms -1", "--max-pose-rms");
 }
 
 TEST(Cli, BadInputGivesOneLineAndExitTwo) {

@@ -46,17 +46,32 @@ struct CaseScore {
   int wrong_ids = 0;        // detections on a marker but with another family or id
   int corners = 0;          // lifted corners of detected markers compared with the truth
   double corner_error_mean = 0, corner_error_max = 0;  // metres
-  int marker_poses = 0;                                // detected markers with T_lidar_marker
+  // Mean side length of the lifted corners (before any known-size fit) minus the true size:
+  // the shrink or growth of the detected square, metres.
+  double size_error_mean = 0;
+  int marker_poses = 0;  // detected markers with T_lidar_marker
   double marker_position_error_mean = 0, marker_rotation_error_mean_deg = 0;
+  // The claimed uncertainty against these errors: sigma = root of the covariance's trace (the RMS
+  // error the covariance predicts, position in metres, rotation in degrees); NEES = the 6-dof
+  // normalised error squared e^T C^-1 e, whose mean is 6 when the covariance is right.
+  double marker_position_sigma_mean = 0, marker_rotation_sigma_mean_deg = 0;
+  double marker_nees_mean = 0;
   bool pose = false;                                  // a LiDAR pose was estimated
   double position_error = 0, rotation_error_deg = 0;  // of T_world_lidar
-  double time_ms = 0;                                 // pipeline stages
+  double position_sigma = 0, rotation_sigma_deg = 0, pose_nees = 0;
+  double time_ms = 0;  // pipeline stages
 };
 
 CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth);
 
-// Runs the pipeline with `lift` on the simulated scan and scores it.
-CaseScore run_case(const SimulatedCase& c, LiftMethod lift);
+// Pipeline options an evaluation may switch to measure their effect on the same scans.
+struct PipelineTweaks {
+  bool edge_refine = PipelineOptions{}.edge_refine;
+  bool weight_corners = LidarPoseOptions{}.weight_corners;
+};
+
+// Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.
+CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks& tweaks = {});
 
 const char* lift_name(LiftMethod lift);
 

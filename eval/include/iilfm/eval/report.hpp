@@ -14,6 +14,9 @@ std::string summary_line(const SetupResult& result);
 // numbers were made.
 std::string to_markdown(const SuiteResult& suite);
 
+// One table of every set-up's claimed uncertainty (covariance) against its observed error.
+std::string uncertainty_markdown(const SuiteResult& suite);
+
 // Every case and every summary; 2-space indented.
 std::string to_json(const SuiteResult& suite);
 

@@ -2,6 +2,7 @@
 // several seeds and both lifting methods, and summarised as mean and worst.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -38,14 +39,29 @@ struct Stat {
   double mean() const { return count > 0 ? sum / count : 0; }
 };
 
+// Claimed uncertainty against the observed error over cases: the ratio of the RMS error to the
+// RMS claimed sigma should be near 1 (0.5-2 over a handful of seeds), and the mean NEES near 6.
+struct Consistency {
+  int count = 0;
+  double error_sq = 0, sigma_sq = 0, nees = 0;
+  void add(double error, double sigma, double nees_value);
+  double rms_error() const { return count > 0 ? std::sqrt(error_sq / count) : 0; }
+  double rms_sigma() const { return count > 0 ? std::sqrt(sigma_sq / count) : 0; }
+  double ratio() const { return sigma_sq > 0 ? std::sqrt(error_sq / sigma_sq) : 0; }
+  double mean_nees() const { return count > 0 ? nees / count : 0; }
+};
+
 struct Summary {
   int cases = 0, visible = 0, detected = 0, false_positives = 0, wrong_ids = 0, poses = 0;
   Stat corner_error;     // per case mean; worst = the worst single corner
+  Stat size_error;       // signed: per case mean side length minus true size, metres
   Stat marker_position;  // metres, of T_lidar_marker
   Stat marker_rotation_deg;
   Stat position;  // metres, of T_world_lidar
   Stat rotation_deg;
   Stat time_ms;
+  Consistency marker_position_claim, marker_rotation_claim;  // metres, degrees
+  Consistency position_claim, rotation_claim;                // of T_world_lidar
 };
 
 Summary summarize(const std::vector<CaseScore>& cases);
@@ -63,6 +79,7 @@ struct SuiteOptions {
   std::vector<LiftMethod> lifts = {LiftMethod::kPlane, LiftMethod::kPaper};
   // Physics switched on for every set-up on top of its own options.
   bool footprint = false;
+  PipelineTweaks tweaks;  // pipeline options changed from the defaults, for before/after
   double dark_dropout = 0;
   double invalid_fraction = 0;
 };

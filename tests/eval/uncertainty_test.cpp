@@ -1,0 +1,57 @@
+// The covariances iilfm reports must match the errors it makes: over simulated seeds, the RMS of
+// the observed error over the RMS of the claimed sigma stays near 1 (a sigma covers the error about
+// as often as a sigma should), for the marker poses and for the LiDAR pose.
+#include <gtest/gtest.h>
+
+#include "iilfm/eval/report.hpp"
+#include "iilfm/eval/suite.hpp"
+
+namespace iilfm::eval {
+namespace {
+
+// Unoptimised (sanitizer) builds run fewer seeds to stay within CI's time; the check itself is
+// for the Release run.
+#ifdef NDEBUG
+constexpr std::uint64_t kSeeds = 16;
+#else
+constexpr std::uint64_t kSeeds = 1;
+#endif
+
+SetupResult run_setup(std::size_t quick_index) {
+  SuiteOptions options;
+  options.seeds.clear();
+  for (std::uint64_t s = 1; s <= kSeeds; ++s) options.seeds.push_back(s);
+  options.lifts = {LiftMethod::kPlane};
+  const SuiteResult r = run_suite("quick", {named_suite("quick").at(quick_index)}, options);
+  std::cout << "[ measured ] " << summary_line(r.results.at(0)) << "\n" << uncertainty_markdown(r);
+  return r.results.at(0);
+}
+
+void expect_consistent(const Consistency& c, const char* what) {
+  SCOPED_TRACE(what);
+  ASSERT_GT(c.count, 0);
+  EXPECT_GT(c.rms_sigma(), 0);
+#ifdef NDEBUG
+  EXPECT_GT(c.ratio(), 0.5) << "claimed sigma too large: " << c.rms_sigma();
+  EXPECT_LT(c.ratio(), 2.0) << "claimed sigma too small: " << c.rms_sigma();
+#endif
+}
+
+TEST(Uncertainty, Mid40AtTwoMetresClaimsTheErrorItMakes) {
+  const SetupResult r = run_setup(0);
+  expect_consistent(r.summary.marker_position_claim, "marker position");
+  expect_consistent(r.summary.marker_rotation_claim, "marker rotation");
+  expect_consistent(r.summary.position_claim, "LiDAR position");
+  expect_consistent(r.summary.rotation_claim, "LiDAR rotation");
+}
+
+TEST(Uncertainty, UltraPuckAtTenMetresClaimsTheErrorItMakes) {
+  const SetupResult r = run_setup(2);
+  expect_consistent(r.summary.marker_position_claim, "marker position");
+  expect_consistent(r.summary.marker_rotation_claim, "marker rotation");
+  expect_consistent(r.summary.position_claim, "LiDAR position");
+  expect_consistent(r.summary.rotation_claim, "LiDAR rotation");
+}
+
+}  // namespace
+}  // namespace iilfm::eval
