@@ -88,8 +88,9 @@ TEST(ParallelPipelines, OnePerThreadGiveTheSingleThreadedResults) {
   for (int k = 0; k < kThreads; ++k) {
     Pipeline pipeline(os1_options());
     alone.push_back(outcome_of(pipeline.process(scans().scans[k].cloud)));
-    // The scene has five markers; a test that found none would compare nothing.
-    EXPECT_GE(alone.back().ids.size(), 4u) << "scan " << k;
+    // Three of the five markers are found in one OS1-64 sweep (the one behind sits on the image
+    // seam); a test that found none would compare nothing.
+    EXPECT_GE(alone.back().ids.size(), 3u) << "scan " << k;
     EXPECT_TRUE(alone.back().pose) << "scan " << k;
   }
 
