@@ -17,10 +17,9 @@ namespace iilfm::fuzz {
 // its path. Aborts when the file cannot be written: that is the harness failing, not the reader.
 inline std::string write_input(const std::uint8_t* data, std::size_t size, const char* extension) {
   namespace fs = std::filesystem;
-  static const fs::path dir = fs::is_directory("/dev/shm") ? fs::path("/dev/shm")
-                                                           : fs::temp_directory_path();
-  const std::string path =
-      (dir / ("iilfm_fuzz_" + std::to_string(getpid()) + extension)).string();
+  static const fs::path dir =
+      fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
+  const std::string path = (dir / ("iilfm_fuzz_" + std::to_string(getpid()) + extension)).string();
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (!file || (size > 0 && std::fwrite(data, 1, size, file) != size) || std::fclose(file) != 0) {
     std::perror(path.c_str());

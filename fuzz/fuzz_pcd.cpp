@@ -1,5 +1,5 @@
-// Fuzz target: the PCD reader (ascii, binary and binary_compressed seeds) on arbitrary bytes. InputError is the one accepted failure; a cloud that comes
-// back must satisfy check_cloud.
+// Fuzz target: the PCD reader (ascii, binary and binary_compressed seeds) on arbitrary bytes.
+// InputError is the one accepted failure; a cloud that comes back must satisfy check_cloud.
 #include <cstddef>
 #include <cstdint>
 

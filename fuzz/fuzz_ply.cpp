@@ -1,5 +1,5 @@
-// Fuzz target: the PLY reader (ascii and both binary byte orders) on arbitrary bytes. InputError is the one accepted failure; a cloud that comes
-// back must satisfy check_cloud.
+// Fuzz target: the PLY reader (ascii and both binary byte orders) on arbitrary bytes. InputError is
+// the one accepted failure; a cloud that comes back must satisfy check_cloud.
 #include <cstddef>
 #include <cstdint>
 

@@ -1,5 +1,5 @@
-// Fuzz target: the ROS 1 bag (v2.0, none/bz2/lz4 chunks) reader on arbitrary bytes: open, walk every topic, decode every point
-// cloud message.
+// Fuzz target: the ROS 1 bag (v2.0, none/bz2/lz4 chunks) reader on arbitrary bytes: open, walk
+// every topic, decode every point cloud message.
 #include <cstddef>
 #include <cstdint>
 

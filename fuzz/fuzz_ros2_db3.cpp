@@ -1,5 +1,5 @@
-// Fuzz target: the ROS 2 sqlite3 bag reader on arbitrary bytes: open, walk every topic, decode every point
-// cloud message.
+// Fuzz target: the ROS 2 sqlite3 bag reader on arbitrary bytes: open, walk every topic, decode
+// every point cloud message.
 #include <cstddef>
 #include <cstdint>
 

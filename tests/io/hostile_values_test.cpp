@@ -21,9 +21,9 @@ TEST(HostileValues, HugeCoordinatesAndOddIntensitiesAreKeptNonFiniteSkipped) {
   written.push_back(1e30f, 2.0f, 3.0f, -5.0f);
   written.push_back(-FLT_MAX, FLT_MAX, 1.0f, 0.0f);
   written.push_back(1.0f, 1e-30f, -1e30f, -FLT_MAX);
-  written.push_back(1.0f, inf, 1.0f, 1.0f);     // skipped: Inf coordinate
-  written.push_back(1.0f, 2.0f, 3.0f, nan);     // skipped: NaN intensity
-  written.push_back(-inf, 2.0f, 3.0f, 1.0f);    // skipped: -Inf coordinate
+  written.push_back(1.0f, inf, 1.0f, 1.0f);   // skipped: Inf coordinate
+  written.push_back(1.0f, 2.0f, 3.0f, nan);   // skipped: NaN intensity
+  written.push_back(-inf, 2.0f, 3.0f, 1.0f);  // skipped: -Inf coordinate
   testing::TempDir dir;
   for (PcdEncoding encoding :
        {PcdEncoding::kAscii, PcdEncoding::kBinary, PcdEncoding::kBinaryCompressed}) {
