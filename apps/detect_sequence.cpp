@@ -44,6 +44,16 @@ class LineFile {
 };
 
 // "1629371234.123456789 tx ty tz qx qy qz qw": the TUM RGB-D trajectory format.
+// The pipeline's own refusals (an image over --max-image-pixels) name the frame.
+const FrameResult& process_frame(Pipeline& pipeline, const PointCloud& cloud,
+                                 const std::string& source) {
+  try {
+    return pipeline.process(cloud);
+  } catch (const InputError& e) {
+    throw file_error(source, std::string(e.what()) + " (--max-image-pixels raises the limit)");
+  }
+}
+
 std::string tum_line(double stamp_s, const Isometry3& T) {
   const Vec3 t = T.translation();
   const Eigen::Quaterniond q(T.linear());
@@ -115,7 +125,7 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
         line = empty_result(info);
       } else {
         if (!pipeline) pipeline.emplace(make_options(cloud));
-        const FrameResult& result = pipeline->process(cloud);
+        const FrameResult& result = process_frame(*pipeline, cloud, frame.source);
         line = result_to_json(result, info);
         if (!result.markers.empty()) ++counts.with_markers;
         if (result.pose) {

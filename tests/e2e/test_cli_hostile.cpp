@@ -61,6 +61,22 @@ TEST(CliHostile, ImageOverTheLimitIsRefusedWithAHint) {
   EXPECT_EQ(run_cli("detect " + tag_wall_scan() + " --max-image-pixels 0").status, 2);
 }
 
+TEST(CliHostile, SequenceFrameOverTheLimitNamesTheFrame) {
+  const fs::path folder = cli_temp_dir() / "over_limit_sequence";
+  fs::create_directories(folder);
+  fs::copy_file(tag_wall_scan(), folder / "000.pcd", fs::copy_options::overwrite_existing);
+  const fs::path jsonl = cli_temp_dir() / "over_limit.jsonl";
+  const CliRun r = run_cli("detect " + folder.string() + " --sensor mid40 --max-image-pixels 1000" +
+                           " -q --jsonl " + jsonl.string());
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line expected: " << r.err;
+  EXPECT_NE(r.err.find((folder / "000.pcd").string() + ": intensity image would be"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("after 1 frames"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
 TEST(CliHostile, ContradictoryOrWarpedMapsAreRefusedNamingTheMarker) {
   const fs::path d = cli_temp_dir();
   const fs::path json = d / "bad_map.json";
