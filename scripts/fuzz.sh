@@ -29,11 +29,13 @@ for target in "${targets[@]}"; do
   corpus="$build/corpus/$target"
   crashes="$build/crashes/$target"
   mkdir -p "$corpus" "$crashes"
+  regressions=()
+  [ ! -d "$root/fuzz/regressions/$target" ] || regressions=("$root/fuzz/regressions/$target")
   # -rss_limit_mb / -malloc_limit_mb: an allocation sized by an unchecked header value is a bug
   # even when the machine could satisfy it. -timeout: a hang is too.
   if "$build/bin/fuzz_$target" "${limit[@]}" -rss_limit_mb=2048 -malloc_limit_mb=1024 \
     -timeout=10 -artifact_prefix="$crashes/" -print_final_stats=1 \
-    "$corpus" "$root/fuzz/corpus/$target" >"$build/fuzz_$target.log" 2>&1; then
+    "$corpus" "$root/fuzz/corpus/$target" "${regressions[@]}" >"$build/fuzz_$target.log" 2>&1; then
     echo "fuzz $target: $(grep -o 'stat::number_of_executed_units: *[0-9]*' \
       "$build/fuzz_$target.log" | grep -o '[0-9]*$') executions, no crash"
   else
