@@ -61,7 +61,9 @@ class AprilTagDetector final : public MarkerDetector {
   }
 
  private:
-  const AprilTagFamilyEntry& entry_;
+  // A copy, not a reference into the families table: a detector outliving that function-static
+  // table (a Pipeline with static storage made before the table) still destroys its family.
+  const AprilTagFamilyEntry entry_;
   std::string name_;
   apriltag_family_t* family_ = nullptr;
   apriltag_detector_t* detector_ = nullptr;
