@@ -53,6 +53,7 @@ struct DetectArgs {
   int aruco_window_step = ArucoOptions{}.window_step;
   std::string json_path, image_path, html_path;
   std::string topic, jsonl_path, tum_path;  // sequences (detect_sequence.cpp)
+  long html_frame = -1;
   bool quiet = false;
 };
 
@@ -186,6 +187,8 @@ const FrameResult& process_or_explain(Pipeline& pipeline, const PointCloud& clou
 
 int run_detect(const DetectArgs& args) {
   if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
+  if (args.html_frame >= 0 && args.html_path.empty())
+    throw InputError("--html-frame selects the frame the --html report of a sequence shows");
   if (is_image_input(args.input) && std::filesystem::is_regular_file(args.input)) {
     if (!args.html_path.empty())
       throw file_error(args.input, "--html needs a point cloud; an image gives --json and --image");
@@ -201,12 +204,19 @@ int run_detect(const DetectArgs& args) {
     }
     return run_detect_image({args.input, args.json_path, args.image_path, args.quiet}, options);
   }
-  const SequenceArgs sequence{args.input,      args.topic,    args.frames,
-                              args.jsonl_path, args.tum_path, args.quiet};
+  SequenceArgs sequence;
+  sequence.input = args.input;
+  sequence.topic = args.topic;
+  sequence.frames = args.frames;
+  sequence.jsonl_path = args.jsonl_path;
+  sequence.tum_path = args.tum_path;
+  sequence.html_path = args.html_path;
+  sequence.html_frame = args.html_frame;
+  sequence.quiet = args.quiet;
   if (is_sequence_run(sequence)) {
-    if (!args.json_path.empty() || !args.image_path.empty() || !args.html_path.empty())
+    if (!args.json_path.empty() || !args.image_path.empty())
       throw InputError(
-          "--json, --image and --html take one cloud; a sequence writes --jsonl and --tum");
+          "--json and --image take one cloud; a sequence writes --jsonl, --tum and --html");
     return run_detect_sequence(sequence, [&args](const PointCloud& first) {
       std::optional<ResolutionEstimate> estimated;
       PipelineOptions options = pipeline_options(args, first, estimated);
@@ -214,6 +224,8 @@ int run_detect(const DetectArgs& args) {
       return options;
     });
   }
+  if (args.html_frame >= 0)
+    throw InputError("--html-frame is for sequences (a bag, or a folder with --jsonl or --tum)");
 
   const auto start = std::chrono::steady_clock::now();
   io::LoadedCloud loaded = load_input(args);
@@ -309,7 +321,11 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--json", args->json_path, "Write the result as JSON");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
   cmd->add_option("--html", args->html_path,
-                  "Write a self-contained HTML report (3-D view, image, tables)");
+                  "Write a self-contained HTML report (3-D view, image, tables; sequences: the "
+                  "trajectory and every frame's detections)");
+  cmd->add_option("--html-frame", args->html_frame,
+                  "Sequence --html: the frame shown in full (default: the last with markers)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--topic", args->topic, "Bag topic with the point clouds (bag input)");
   cmd->add_option("--jsonl", args->jsonl_path, "Sequence: one JSON result per frame (JSON Lines)");
   cmd->add_option("--tum", args->tum_path, "Sequence: LiDAR trajectory in TUM format");

@@ -12,6 +12,7 @@
 #include "iilfm/io/bag.hpp"
 #include "iilfm/io/frame_source.hpp"
 #include "iilfm/report.hpp"
+#include "iilfm/report_html.hpp"
 #include "progress_bar.hpp"
 
 namespace iilfm::cli {
@@ -89,6 +90,14 @@ struct Counts {
   std::size_t frames = 0, results = 0, with_markers = 0, with_pose = 0;
 };
 
+// Whether this result is the one the report shows in full: the selected frame, else the latest
+// with markers (the first frame stands in until one has them).
+bool shown_in_full(const SequenceArgs& args, const HtmlSequenceReport& html, std::size_t frame,
+                   bool has_markers) {
+  if (args.html_frame >= 0) return frame == static_cast<std::size_t>(args.html_frame);
+  return has_markers || !html.showing();
+}
+
 }  // namespace
 
 bool is_sequence_run(const SequenceArgs& args) {
@@ -100,6 +109,12 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
   std::optional<Pipeline> pipeline;  // made from the first window (it may estimate resolution)
   const std::unique_ptr<io::FrameSource> source = io::open_frame_source(args.input, args.topic);
   LineFile jsonl(args.jsonl_path), tum(args.tum_path);
+  std::optional<HtmlSequenceReport> html;
+  if (!args.html_path.empty()) {
+    HtmlReportOptions options;
+    options.title = "iilfm report: " + source->name();
+    html.emplace(options);
+  }
   FrameWindow window(static_cast<std::size_t>(args.frames));
   ProgressBar progress(source->total(), !args.quiet);
   Counts counts;
@@ -124,9 +139,14 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
       if (cloud.empty()) {
         line = empty_result(info);
       } else {
-        if (!pipeline) pipeline.emplace(make_options(cloud));
+        if (!pipeline) {
+          pipeline.emplace(make_options(cloud));
+          if (html && pipeline->options().map) html->set_map(*pipeline->options().map);
+        }
         const FrameResult& result = process_frame(*pipeline, cloud, frame.source);
         line = result_to_json(result, info);
+        if (html && shown_in_full(args, *html, frame.index, !result.markers.empty()))
+          html->show(HtmlFrame{&result, info, PointView(cloud)}, counts.results);
         if (!result.markers.empty()) ++counts.with_markers;
         if (result.pose) {
           ++counts.with_pose;
@@ -137,6 +157,7 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
       line["timestamp"] = frame.stamp_s;
       if (window.capacity() > 1) line["window"] = {window_first, frame.index};
       jsonl.write(line.dump());
+      if (html) html->add(line);
       ++counts.results;
       progress.update(counts.frames);
     }
@@ -155,6 +176,17 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     throw file_error(source->name(), "--frames " + std::to_string(args.frames) +
                                          " but the recording holds " +
                                          std::to_string(counts.frames) + " frames");
+  if (html) {
+    if (args.html_frame >= 0 && !html->showing()) {
+      const std::string frame = "--html-frame " + std::to_string(args.html_frame) + ": ";
+      if (static_cast<std::size_t>(args.html_frame) >= counts.frames)
+        throw file_error(source->name(), frame + "the recording has frames 0 to " +
+                                             std::to_string(counts.frames - 1));
+      throw file_error(source->name(), frame + "that frame has no result (no valid points, or " +
+                                           "before the first full --frames window)");
+    }
+    html->write(args.html_path);
+  }
   if (!args.quiet) {
     std::printf(
         "%zu frames from %s: %zu result(s), markers in %zu, LiDAR pose in %zu; %.1f frames/s\n",

@@ -1,5 +1,6 @@
 // `iilfm detect` on a recording: every frame (or every sliding window of N frames) of a folder or
-// a bag topic through one pipeline, one JSON line per result and the LiDAR trajectory in TUM form.
+// a bag topic through one pipeline, one JSON line per result, the LiDAR trajectory in TUM form and
+// the HTML report of the whole recording.
 #pragma once
 
 #include <functional>
@@ -14,6 +15,8 @@ struct SequenceArgs {
   std::string topic;
   int frames = 1;  // integration window, sliding by one frame
   std::string jsonl_path, tum_path;
+  std::string html_path;  // the sequence report (trajectory, per-frame table, one frame in full)
+  long html_frame = -1;   // the frame shown in full; -1: the last one with markers
   bool quiet = false;
 };
 

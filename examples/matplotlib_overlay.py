@@ -2,8 +2,10 @@
 """Show the intensity image with the detected markers' corners and ids in matplotlib.
 
     PYTHONPATH=build/python python3 examples/matplotlib_overlay.py \
-        data/sample/mid40_tag_wall.pcd --sensor mid40 [--out overlay.png]
+        data/sample/mid40_tag_wall.pcd [--sensor mid40] [--out overlay.png]
 
+Without --sensor the image resolution is estimated from the cloud. --out saves the figure
+(Agg backend, no display needed) instead of showing it.
 Needs matplotlib (Debian: apt install python3-matplotlib); iilfm itself does not.
 """
 
@@ -19,8 +21,8 @@ CORNER_COLORS = ["red", "limegreen", "dodgerblue", "gold"]  # top-left .. bottom
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("cloud", help="point cloud file (.pcd, .bin)")
-    parser.add_argument("--sensor", default="mid40", help="sensor preset (iilfm sensors)")
+    parser.add_argument("cloud", help="point cloud file (.pcd, .bin, .ply, .txt)")
+    parser.add_argument("--sensor", help="sensor preset (iilfm sensors); default: estimated")
     parser.add_argument("--out", help="save the figure here instead of showing it")
     args = parser.parse_args()
 
@@ -30,9 +32,11 @@ def main():
             matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        sys.exit("this example needs matplotlib: apt install python3-matplotlib")
+        sys.exit("this example needs matplotlib: apt install python3-matplotlib "
+                 "(or pip install matplotlib)")
 
     result = iilfm.Pipeline(sensor=args.sensor).detect(iilfm.read_cloud(args.cloud))
+    print(f"{len(result.markers)} marker(s):", " ".join(str(m.id) for m in result.markers))
     image = result.gray_image
     geometry = result.image
     # Pixels are res_h x res_v degrees: stretch so a marker looks square.

@@ -14,6 +14,8 @@ packages=(
   pcl-tools
   # Python bindings and their tests
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # the Python examples, run as tests (ctest python_example_*; skipped when missing)
+  python3-matplotlib python3-open3d python3-yaml
   # HTML report tested in a real headless browser
   chromium chromium-driver
 )

@@ -1,7 +1,7 @@
 """Type stubs of the iilfm extension module (python/src/*.cpp). Keep in step with the bindings."""
 
 from os import PathLike
-from typing import Mapping, Sequence, Union
+from typing import Iterable, Mapping, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -123,7 +123,10 @@ class Result:
         """Writes the self-contained HTML report of this frame (as `iilfm detect --html`)."""
 
 class Pipeline:
-    """Projection, preprocessing, detection, lifting, pose; options mirror `iilfm detect`."""
+    """Projection, preprocessing, detection, lifting, pose; options mirror `iilfm detect`.
+
+    Without sensor or both res_h and res_v, the resolution is estimated from the first cloud.
+    """
 
     def __init__(
         self,
@@ -151,6 +154,11 @@ class Pipeline:
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""
+    def detect_frames(self, frames: Iterable[Points], window: int = 1) -> list[Result]:
+        """A recording: one Result per frame, or per sliding window of `window` frames."""
+    @property
+    def resolution(self) -> dict[str, object] | None:
+        """res_h_deg, res_v_deg, rows, source[, rings]; None until estimated."""
     def _last_x_address(self) -> int: ...
 
 def read_cloud(path: str | PathLike[str]) -> Cloud:

@@ -9,11 +9,13 @@
 
 #include "bindings.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/frame_window.hpp"
 #include "iilfm/option_names.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/report_html.hpp"
+#include "iilfm/resolution.hpp"
 #include "points_input.hpp"
 
 namespace iilfm::python {
@@ -44,15 +46,10 @@ void require_range(double value, double lo, double hi, const char* name) {
 }
 
 // The same mapping and messages as `iilfm detect`'s options (apps/cmd_detect.cpp).
+// Without a preset or both resolutions, PyPipeline estimates them from the first cloud.
 PipelineOptions pipeline_options(const Options& a) {
   PipelineOptions options;
-  if (a.sensor) {
-    apply_sensor_preset(find_sensor_preset(*a.sensor), options);
-  } else if (!a.res_h || !a.res_v || *a.res_h <= 0 || *a.res_v <= 0) {
-    throw InputError(
-        "give --sensor PRESET or both --res-h and --res-v (degrees); `iilfm sensors` "
-        "lists the presets");
-  }
+  if (a.sensor) apply_sensor_preset(find_sensor_preset(*a.sensor), options);
   if (a.res_h && *a.res_h > 0) options.projection.res_h_deg = *a.res_h;
   if (a.res_v && *a.res_v > 0) options.projection.res_v_deg = *a.res_v;
 
@@ -186,16 +183,77 @@ py::object json_of(const Result& r) {
 
 class PyPipeline {
  public:
-  explicit PyPipeline(const Options& o)
-      : pipeline_(pipeline_options(o)),
-        resolution_source_(o.sensor ? "preset " + *o.sensor : "given") {}
+  explicit PyPipeline(const Options& o) : options_(pipeline_options(o)) {
+    const bool given = o.res_h && o.res_v && *o.res_h > 0 && *o.res_v > 0;
+    if (o.sensor || given) {
+      resolution_source_ = o.sensor ? "preset " + *o.sensor : "given";
+      pipeline_.emplace(options_);
+      return;
+    }
+    // As `iilfm detect` without --sensor: from the first cloud, a given res_h or res_v kept.
+    if (o.res_h && *o.res_h > 0) given_res_h_ = *o.res_h;
+    if (o.res_v && *o.res_v > 0) given_res_v_ = *o.res_v;
+    Pipeline check(options_);  // bad families and sizes raise now, not at the first detect()
+  }
 
-  Result detect(const py::handle& points) {
-    std::unique_ptr<PointsInput> in = points_from_python(points);
+  Result detect(const py::handle& points) { return run(points_from_python(points)); }
+
+  // Every frame, or every window of `window` frames sliding by one (as `iilfm detect` on a
+  // recording with --frames): a Result per full window.
+  std::vector<Result> detect_frames(const py::iterable& frames, std::size_t window) {
+    if (window < 1) throw InputError("window must be at least 1 (frames)");
+    std::vector<Result> results;
+    FrameWindow held(window);
+    for (const py::handle& frame : frames) {
+      std::unique_ptr<PointsInput> in = points_from_python(frame);
+      if (window == 1) {
+        results.push_back(run(std::move(in)));
+        continue;
+      }
+      held.push(copy_of(in->view), in->stats);
+      if (held.full()) results.push_back(run(points_owning(held.cloud(), held.stats(), in->path)));
+    }
+    return results;
+  }
+
+  // The resolution used, and where it came from; None until an estimate was made.
+  py::object resolution() const {
+    if (!pipeline_) return py::none();
+    const ProjectionOptions& p = pipeline_->options().projection;
+    py::dict d;
+    d["res_h_deg"] = p.res_h_deg;
+    d["res_v_deg"] = p.res_v_deg;
+    d["rows"] = p.rows == RowLayout::kRings ? "rings" : "uniform";
+    d["source"] = resolution_source_;
+    if (estimated_) d["rings"] = estimated_->rings;
+    return d;
+  }
+
+  std::uintptr_t last_x_address() const { return last_x_address_; }
+
+ private:
+  // The pipeline, made now from the first cloud's resolution when it is to be estimated.
+  Pipeline& pipeline_for(const PointsInput& in) {
+    if (pipeline_) return *pipeline_;
+    try {
+      estimated_ = estimate_resolution(copy_of(in.view));
+    } catch (const InputError& e) {
+      throw file_error(in.path.empty() ? "points" : in.path, e.what());
+    }
+    PipelineOptions options = options_;
+    options.projection.res_h_deg = given_res_h_.value_or(estimated_->res_h_deg);
+    options.projection.res_v_deg = given_res_v_.value_or(estimated_->res_v_deg);
+    options.projection.rows = estimated_->rows;
+    resolution_source_ = "estimated (" + estimated_->method + ")";
+    return pipeline_.emplace(options);
+  }
+
+  Result run(std::unique_ptr<PointsInput> in) {
+    Pipeline& pipeline = pipeline_for(*in);
     Result r;
     {
       py::gil_scoped_release release;
-      r.frame = detached(pipeline_.process(in->view));
+      r.frame = detached(pipeline.process(in->view));
     }
     last_x_address_ = reinterpret_cast<std::uintptr_t>(in->view.x.data);
     r.input = InputInfo{in->path.empty() ? "<array>" : in->path, in->stats, 0, resolution_source_};
@@ -207,10 +265,10 @@ class PyPipeline {
     return r;
   }
 
-  std::uintptr_t last_x_address() const { return last_x_address_; }
-
- private:
-  Pipeline pipeline_;
+  PipelineOptions options_;
+  std::optional<Pipeline> pipeline_;
+  std::optional<double> given_res_h_, given_res_v_;
+  std::optional<ResolutionEstimate> estimated_;
   std::uintptr_t last_x_address_ = 0;
   std::string resolution_source_;  // as the CLI's JSON names it
 };
@@ -430,7 +488,9 @@ void register_pipeline(py::module_& m) {
            py::arg("aruco_window_min") = ArucoOptions{}.window_min,
            py::arg("aruco_window_max") = ArucoOptions{}.window_max,
            py::arg("aruco_window_step") = ArucoOptions{}.window_step,
-           "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees.\n"
+           "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
+           "neither, the resolution is estimated from the first cloud detected (as `iilfm "
+           "detect` does without --sensor) and kept for later frames (see resolution).\n"
            "markers: families, e.g. ['apriltag:tag36h11', 'aruco:DICT_4X4_50'] "
            "(default apriltag:tag36h11).\n"
            "map: marker map YAML path; enables the LiDAR pose.\n"
@@ -443,6 +503,16 @@ void register_pipeline(py::module_& m) {
            "1-D columns x, y, z, intensity[, ring], or an iilfm.Cloud. NaN/Inf and (0, 0, 0) "
            "points are skipped like the file readers skip them (that needs one copy). "
            "Result.input['copied'] tells whether a copy was made.")
+      .def("detect_frames", &PyPipeline::detect_frames, py::arg("frames"), py::arg("window") = 1,
+           "Runs a recording: frames is an iterable of what detect() takes. window=1 gives one "
+           "Result per frame (read in place like detect()); window=N integrates the last N "
+           "frames, sliding by one (as `iilfm detect` on a recording with --frames N), one "
+           "Result per full window (len(frames) - N + 1), over a copy of their union.")
+      .def_property_readonly(
+          "resolution", &PyPipeline::resolution,
+          "dict res_h_deg, res_v_deg, rows ('rings' or 'uniform'), source ('preset mid40', "
+          "'given', 'estimated (ring field)', ...) and, when estimated, rings; None before the "
+          "first detect() when the resolution is to be estimated.")
       .def("_last_x_address", &PyPipeline::last_x_address,
            "Debug: address of the x values the last detect() read (for no-copy tests).");
 }

@@ -152,4 +152,25 @@ std::unique_ptr<PointsInput> points_from_python(const py::handle& points) {
   return in;
 }
 
+std::unique_ptr<PointsInput> points_owning(PointCloud cloud, const CloudStats& stats,
+                                           std::string path) {
+  auto in = std::make_unique<PointsInput>();
+  in->filtered_ = std::move(cloud);
+  in->view = PointView(in->filtered_);
+  in->stats = stats;
+  in->path = std::move(path);
+  in->copied = true;
+  return in;
+}
+
+PointCloud copy_of(const PointView& view) {
+  PointCloud cloud;
+  cloud.reserve(view.size(), view.has_ring());
+  for (std::size_t i = 0; i < view.size(); ++i) {
+    cloud.push_back(view.x[i], view.y[i], view.z[i], view.intensity[i]);
+    if (view.has_ring()) cloud.ring.push_back(view.ring[i]);
+  }
+  return cloud;
+}
+
 }  // namespace iilfm::python

@@ -27,11 +27,20 @@ struct PointsInput {
 
  private:
   friend std::unique_ptr<PointsInput> points_from_python(const py::handle& points);
+  friend std::unique_ptr<PointsInput> points_owning(PointCloud cloud, const CloudStats& stats,
+                                                    std::string path);
   PointCloud filtered_;            // the copy, when one was made
   std::vector<py::object> owned_;  // converted arrays and the caller's objects, kept alive
 };
 
 // InputError for anything that is not points, or when no valid point is left.
 std::unique_ptr<PointsInput> points_from_python(const py::handle& points);
+
+// Points the input holds itself (the union of a frame window): `copied`, no original rows.
+std::unique_ptr<PointsInput> points_owning(PointCloud cloud, const CloudStats& stats,
+                                           std::string path);
+
+// A copy of the viewed points (x, y, z, intensity, and ring when there is one).
+PointCloud copy_of(const PointView& view);
 
 }  // namespace iilfm::python

@@ -152,8 +152,8 @@ void register_simulate(py::module_& m) {
          double angle_sigma, bool footprint, int footprint_samples, double dark_dropout,
          double invalid_fraction, std::string invalid_as, std::optional<double> min_range,
          std::optional<std::vector<double>> lidar_xyz, std::optional<std::vector<double>> lidar_rpy,
-         std::optional<std::string> out, std::optional<std::string> map,
-         std::optional<std::string> truth) {
+         std::optional<std::filesystem::path> out, std::optional<std::filesystem::path> map,
+         std::optional<std::filesystem::path> truth) {
         SimArgs a;
         a.scene = std::move(scene);
         auto text = [](const std::optional<std::filesystem::path>& p) {

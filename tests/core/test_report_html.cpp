@@ -80,5 +80,92 @@ TEST(HtmlReport, RefusesNoFramesAndUnwritablePaths) {
   }
 }
 
+// A recording's page: one summary per frame (ids, pose, timing), the map, and the frame shown in
+// full as it was when shown, although the pipeline's buffers were reused by later frames.
+TEST(HtmlSequenceReport, SummarisesEveryFrameAndKeepsTheShownOne) {
+  ASSERT_TRUE(html_report_available());
+  const std::string dir = IILFM_SOURCE_DIR "/data/sample/";
+  const io::LoadedCloud loaded = io::read_cloud(dir + "mid40_tag_wall.pcd");
+  PipelineOptions options;
+  apply_sensor_preset(find_sensor_preset("mid40"), options);
+  options.map = MarkerMap::load(dir + "mid40_tag_wall_map.yaml");
+  Pipeline pipeline(options);
+  // Frame 1 is the scan without its first half of points: fewer points, markers maybe lost.
+  PointCloud half = loaded.cloud;
+  const std::size_t cut = half.size() / 2;
+  for (auto* column : {&half.x, &half.y, &half.z, &half.intensity})
+    column->erase(column->begin(), column->begin() + static_cast<std::ptrdiff_t>(cut));
+
+  HtmlSequenceReport report;
+  report.set_map(*options.map);
+  std::vector<nlohmann::json> lines;
+  nlohmann::json shown_markers;
+  for (int k = 0; k < 3; ++k) {
+    const PointCloud& cloud = k == 1 ? half : loaded.cloud;
+    const InputInfo info{"rec#" + std::to_string(k), loaded.stats, 0.5, ""};
+    const FrameResult& result = pipeline.process(cloud);
+    nlohmann::json line = result_to_json(result, info);
+    line["frame"] = 10 + k;
+    line["timestamp"] = 100.0 + 0.1 * k;
+    report.add(line);
+    if (k == 0) {
+      report.show(HtmlFrame{&result, info, PointView(cloud)}, 0);
+      shown_markers = line["markers"];
+    }
+    lines.push_back(line);
+  }
+  ASSERT_EQ(report.frames(), 3u);
+  const nlohmann::json data = page_data(report.page());
+  const nlohmann::json& seq = data["sequence"];
+  ASSERT_EQ(seq["frames"].size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    const nlohmann::json& s = seq["frames"][k];
+    EXPECT_EQ(s["frame"], 10 + k);
+    EXPECT_DOUBLE_EQ(s["time"].get<double>(), 100.0 + 0.1 * k);
+    ASSERT_EQ(s["markers"].size(), lines[k]["markers"].size());
+    for (std::size_t m = 0; m < s["markers"].size(); ++m)
+      EXPECT_EQ(seq["keys"][s["markers"][m].get<std::size_t>()].get<std::string>(),
+                lines[k]["markers"][m]["family"].get<std::string>() + "/" +
+                    std::to_string(lines[k]["markers"][m]["id"].get<int>()));
+    const nlohmann::json& pose = lines[k]["pose"];
+    ASSERT_EQ(s.contains("xyz"), !pose.is_null());
+    if (pose.is_null()) {
+      EXPECT_EQ(s["why"], lines[k]["pose_missing_reason"]);
+      continue;
+    }
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(s["xyz"][i].get<double>(), pose["xyz"][i].get<double>(), 0.5e-4);
+      EXPECT_NEAR(s["rpy"][i].get<double>(), pose["rpy_deg"][i].get<double>(), 0.5e-3);
+    }
+    EXPECT_NEAR(s["rms_mm"].get<double>(), 1000 * pose["rms_m"].get<double>(), 0.005);
+    EXPECT_EQ(s["used"], pose["markers_used"].size());
+  }
+  EXPECT_FALSE(seq["frames"][0]["markers"].empty());
+  EXPECT_EQ(seq["map"].size(), options.map->markers().size());
+  EXPECT_EQ(seq["map"][0]["key"], options.map->markers()[0].key());
+  // The shown frame is frame 0 as it was: its markers and its whole cloud, not the half of frame 1.
+  EXPECT_EQ(seq["shown"], 0);
+  ASSERT_EQ(data["frames"].size(), 1u);
+  EXPECT_EQ(data["frames"][0]["markers"], shown_markers);
+  EXPECT_EQ(data["frames"][0]["input"]["path"], "rec#0");
+  EXPECT_EQ(data["frames"][0]["cloud"]["total"], loaded.cloud.size());
+}
+
+TEST(HtmlSequenceReport, RefusesAnEmptyRecordingAndShowsNothingUnasked) {
+  HtmlSequenceReport report;
+  EXPECT_THROW(report.page(), InputError);
+  report.add({{"frame", 0},
+              {"timestamp", 1.0},
+              {"markers", nlohmann::json::array()},
+              {"pose", nullptr},
+              {"pose_missing_reason", "no valid points"},
+              {"timing_ms", {{"total", 0.25}}}});
+  EXPECT_FALSE(report.showing());
+  const nlohmann::json data = page_data(report.page());
+  EXPECT_TRUE(data["frames"].empty());
+  EXPECT_TRUE(data["sequence"]["shown"].is_null());
+  EXPECT_EQ(data["sequence"]["frames"][0]["why"], "no valid points");
+}
+
 }  // namespace
 }  // namespace iilfm

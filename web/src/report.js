@@ -1,62 +1,14 @@
 // The viewer of iilfm's HTML report. The C++ writer (src/report_html.cpp) puts the data in
 // <script id="iilfm-data" type="application/json"> and this bundle (three.js included) after it.
-// Data: {title, max_points, frames: [frame]}, each frame the `iilfm detect --json` result plus
-// `cloud` (subsampled points) and `overlay_image` (data URI).
+// Data: {title, max_points, frames: [frame], sequence?}, each frame the `iilfm detect --json`
+// result plus `cloud` (subsampled points) and `overlay_image` (data URI); the page shows the last.
+// A recording adds `sequence` (sequence.js) and its `frames` holds the one frame shown in full.
 import * as THREE from 'three';
-import {OrbitControls} from 'three/examples/jsm/controls/OrbitControls.js';
-import {CSS2DObject, CSS2DRenderer} from 'three/examples/jsm/renderers/CSS2DRenderer.js';
+
+import {axes, decodeBase64, element, fixed, label, matrix, startViewer, table} from './common.js';
+import {sequenceSection} from './sequence.js';
 
 const CORNER_COLORS = [0xff3030, 0x30c030, 0x3070ff, 0xffd000];  // top-left .. bottom-left
-
-function decodeBase64(text) {
-  const bytes = atob(text);
-  const out = new Uint8Array(bytes.length);
-  for (let i = 0; i < bytes.length; ++i) out[i] = bytes.charCodeAt(i);
-  return out.buffer;
-}
-
-function element(tag, attrs = {}, children = []) {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  for (const c of children) e.append(c);
-  return e;
-}
-
-function fixed(v, digits) {
-  return v === null || v === undefined ? '-' : Number(v).toFixed(digits);
-}
-
-function table(id, header, rows) {
-  const head = element('tr', {}, header.map((h) => element('th', {}, [h])));
-  const body = rows.map(
-      (r) => element('tr', r.attrs || {}, r.cells.map((c) => element('td', {}, [String(c)]))));
-  return element('table', {id}, [element('thead', {}, [head]), element('tbody', {}, body)]);
-}
-
-// Matrix4 from the JSON's row-major 4x4.
-function matrix(rows) {
-  const m = new THREE.Matrix4();
-  m.set(...rows.flat());
-  return m;
-}
-
-function label(text, className) {
-  const div = element('div', {class: className});
-  div.textContent = text;
-  return new CSS2DObject(div);
-}
-
-function axes(length, name) {
-  const group = new THREE.Group();
-  const dirs = [[1, 0, 0, 0xe03030], [0, 1, 0, 0x30b030], [0, 0, 1, 0x3060e0]];
-  for (const [x, y, z, color] of dirs) {
-    const geometry = new THREE.BufferGeometry().setFromPoints(
-        [new THREE.Vector3(0, 0, 0), new THREE.Vector3(x * length, y * length, z * length)]);
-    group.add(new THREE.Line(geometry, new THREE.LineBasicMaterial({color})));
-  }
-  if (name) group.add(label(name, 'label frame-label'));
-  return group;
-}
 
 // Intensity (0..255, display-scaled) to a colour: dark blue - cyan - yellow - white.
 function intensityColor(v, out, i) {
@@ -114,17 +66,6 @@ function markerObject(m) {
 }
 
 function buildScene(frame, container) {
-  const width = container.clientWidth, height = container.clientHeight;
-  const renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
-  renderer.setSize(width, height);
-  renderer.setClearColor(0x10141c);
-  container.append(renderer.domElement);
-  const labels = new CSS2DRenderer();
-  labels.setSize(width, height);
-  labels.domElement.className = 'labels';
-  container.append(labels.domElement);
-
   const scene = new THREE.Scene();
   // Everything measured is in the LiDAR frame; with a pose, that frame is placed in the world.
   const lidar = new THREE.Group();
@@ -136,8 +77,6 @@ function buildScene(frame, container) {
   lidar.add(axes(0.5, frame.pose ? 'LiDAR' : 'LiDAR (no pose)'));
   if (frame.pose) scene.add(axes(1, 'world'));
 
-  const camera = new THREE.PerspectiveCamera(50, width / height, 0.01, 5000);
-  camera.up.set(0, 0, 1);
   scene.updateMatrixWorld(true);
   // Look at the markers when there are any, else at the whole cloud, from behind the LiDAR.
   const target = new THREE.Vector3();
@@ -153,35 +92,16 @@ function buildScene(frame, container) {
   // From beside and above the LiDAR, a quarter of the way towards the target.
   const origin = new THREE.Vector3().applyMatrix4(lidar.matrixWorld);
   const back = origin.clone().sub(target);
+  const up = new THREE.Vector3(0, 0, 1);
   if (back.length() < 1e-6) back.set(-1, 0, 0);
-  const side = new THREE.Vector3().crossVectors(back, camera.up).normalize();
+  const side = new THREE.Vector3().crossVectors(back, up).normalize();
   const eye = target.clone()
                   .addScaledVector(back, 0.75)
                   .addScaledVector(side, 0.35 * back.length())
-                  .addScaledVector(camera.up, 0.25 * back.length());
+                  .addScaledVector(up, 0.25 * back.length());
   const radius = Math.max(1, target.distanceTo(eye));
-  camera.position.copy(eye);
-  camera.far = Math.max(100, 4 * (sphere.radius + radius));
-  camera.updateProjectionMatrix();
-  const controls = new OrbitControls(camera, labels.domElement);
-  controls.target.copy(target);
-  controls.update();
-
-  const render = () => {
-    renderer.render(scene, camera);
-    labels.render(scene, camera);
-  };
-  controls.addEventListener('change', render);
-  window.addEventListener('resize', () => {
-    const w = container.clientWidth, h = container.clientHeight;
-    camera.aspect = w / h;
-    camera.updateProjectionMatrix();
-    renderer.setSize(w, h);
-    labels.setSize(w, h);
-    render();
-  });
-  render();
-  return renderer.domElement;
+  return startViewer(container, scene, eye, target, Math.max(100, 4 * (sphere.radius + radius)))
+      .canvas;
 }
 
 function frameTables(frame) {
@@ -234,10 +154,8 @@ function frameTables(frame) {
   return parts;
 }
 
-function main() {
-  const data = JSON.parse(document.getElementById('iilfm-data').textContent);
-  const frame = data.frames[data.frames.length - 1];
-  const report = document.getElementById('report');
+// One frame in full: the 3-D view of its cloud and markers, its tables and its image.
+function frameSection(frame, data, report) {
   const cloud = frame.cloud;
   const info = element('p', {class: 'info', id: 'cloud-info'});
   info.textContent =
@@ -251,7 +169,7 @@ function main() {
       `${frame.image.threshold}. Drag to orbit, scroll to zoom, right-drag to pan.`;
   report.append(info);
 
-  const view = element('div', {id: 'view'});
+  const view = element('div', {id: 'view', class: 'view'});
   report.append(view);
   try {
     buildScene(frame, view);
@@ -266,7 +184,31 @@ function main() {
     src: frame.overlay_image,
     alt: 'preprocessed intensity image with the detections'
   }));
-  window.iilfmReport = {ready: true, markers: frame.markers.map((m) => m.id)};
+}
+
+function main() {
+  const data = JSON.parse(document.getElementById('iilfm-data').textContent);
+  const report = document.getElementById('report');
+  const frame = data.frames.length ? data.frames[data.frames.length - 1] : null;
+  let shownFrame = null, sequence = {};
+  if (data.sequence) {
+    sequence = sequenceSection(data.sequence, report);
+    const seq = data.sequence;
+    if (frame) {
+      shownFrame = seq.frames[seq.shown].frame;
+      report.append(element('h2', {id: 'shown-frame', 'data-frame': shownFrame},
+                            [`Frame ${shownFrame} in full`]));
+    } else {
+      report.append(element('p', {id: 'shown-frame'}, ['No frame had valid points to show.']));
+    }
+  }
+  if (frame) frameSection(frame, data, report);
+  window.iilfmReport = {
+    ready: true,
+    markers: frame ? frame.markers.map((m) => m.id) : [],
+    shownFrame,
+    ...sequence,
+  };
 }
 
 main();

@@ -6,8 +6,8 @@
 // - the intensity image decoded.
 // Writes a screenshot of the page to SCREENSHOT.png and prints its path.
 import {readFileSync} from 'node:fs';
-import {pathToFileURL} from 'node:url';
-import {chromium} from 'playwright-core';
+
+import {checks, drawnPixels, openReport} from './browser.mjs';
 
 const [report, resultJson, screenshot, executable = '/usr/bin/chromium'] = process.argv.slice(2);
 if (!report || !resultJson || !screenshot) {
@@ -16,43 +16,10 @@ if (!report || !resultJson || !screenshot) {
 }
 const expected = JSON.parse(readFileSync(resultJson, 'utf8')).markers.map((m) => `${m.family}/${m.id}`);
 
-const failures = [];
-const check = (ok, what) => {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
-  if (!ok) failures.push(what);
-};
-
-// Headless Chromium has no GPU here: WebGL runs on SwiftShader, which must be allowed explicitly.
-const browser = await chromium.launch({
-  executablePath: executable,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const {check, failures} = checks();
+const {browser, page, errors} = await openReport(report, executable);
 try {
-  const page = await browser.newPage({viewport: {width: 1280, height: 1000}});
-  const errors = [];
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(`console: ${m.text()}`); });
-  page.on('pageerror', (e) => errors.push(`exception: ${e.message}`));
-  await page.goto(pathToFileURL(report).href, {waitUntil: 'load'});
-  await page.waitForFunction(() => window.iilfmReport && window.iilfmReport.ready,
-                             null, {timeout: 60000});
-  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => r())));
-
-  // Pixels of the WebGL canvas that differ from the clear colour (0x10141c).
-  const canvas = await page.evaluate(() => {
-    const gl = document.querySelector('#view canvas');
-    if (!gl) return null;
-    const c = document.createElement('canvas');
-    c.width = gl.width;
-    c.height = gl.height;
-    const ctx = c.getContext('2d');
-    ctx.drawImage(gl, 0, 0);
-    const px = ctx.getImageData(0, 0, c.width, c.height).data;
-    let drawn = 0;
-    for (let i = 0; i < px.length; i += 4) {
-      if (Math.abs(px[i] - 0x10) + Math.abs(px[i + 1] - 0x14) + Math.abs(px[i + 2] - 0x1c) > 24) ++drawn;
-    }
-    return {drawn, total: px.length / 4};
-  });
+  const canvas = await drawnPixels(page, '#view canvas');
   check(canvas !== null, 'the page has a WebGL canvas');
   if (canvas) {
     console.log(`     canvas: ${canvas.drawn} of ${canvas.total} pixels drawn`);

@@ -12,7 +12,7 @@ if [ ! -x "$chromium" ]; then
 fi
 mkdir -p "$out" "$web/test"
 # Next to web/node_modules, so that playwright-core resolves.
-cp "$here/browser_test.mjs" "$web/test/"
+cp "$here/browser.mjs" "$here/browser_test.mjs" "$web/test/"
 "$cli" sim --scene grid --frames 20 --seed 3 --out "$out/grid.pcd" --map "$out/grid_map.yaml"
 "$cli" detect "$out/grid.pcd" --sensor mid40 --map "$out/grid_map.yaml" --json "$out/report.json" \
   --html "$out/report.html" -q
