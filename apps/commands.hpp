@@ -15,5 +15,6 @@ Runner register_sim_command(CLI::App& app);
 Runner register_sensors_command(CLI::App& app);
 Runner register_eval_command(CLI::App& app);
 Runner register_bag_command(CLI::App& app);
+Runner register_marker_command(CLI::App& app);
 
 }  // namespace iilfm::cli

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "iilfm/duplicates.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -65,6 +66,7 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
   std::vector<Detection> detections;
   for (const std::string& family : options.families)
     make_detector(family, options.detector)->detect(result.preprocessed.detect, detections);
+  drop_duplicate_detections(detections);  // one report per physical marker
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);
     MarkerResult marker;

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   add(iilfm::cli::register_sensors_command);
   add(iilfm::cli::register_eval_command);
   add(iilfm::cli::register_bag_command);
+  add(iilfm::cli::register_marker_command);
 
   try {
     app.parse(argc, argv);

@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
-  libeigen3-dev libapriltag-dev libopencv-dev libopencv-contrib-dev
+  libeigen3-dev libapriltag-dev libopencv-dev libopencv-contrib-dev zlib1g-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # bag readers (ROS 1 bz2/lz4 chunks, ROS 2 sqlite3) and real bag writers for their tests

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "iilfm/duplicates.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -30,7 +31,7 @@ class Stopwatch {
 // in the fitted pose (their independent errors average out); the fit's RMS says how far the
 // detection was from that square.
 void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square) {
-  const auto model = marker_frame_corners(size);
+  const std::vector<Vec3> model = marker_frame_keypoints(marker.detection, size);
   std::vector<Vec3> source, target;
   for (std::size_t k = 0; k < marker.corners.size() && k < model.size(); ++k) {
     if (!marker.corners[k].valid()) continue;
@@ -41,12 +42,26 @@ void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square) {
   if (!fit.ok) return;
   marker.T_lidar_marker = fit.T;
   marker.marker_fit_rms = fit.rms;
-  if (fit_square && source.size() == 4 && marker.corners.size() == 4) {
+  if (fit_square && source.size() == 4 && marker.corners.size() == 4 &&
+      marker.detection.keypoints_marker.empty()) {
     for (std::size_t k = 0; k < 4; ++k) {
       marker.lifted_points.push_back(marker.corners[k].point);
       marker.corners[k].point = fit.T * model[k];
     }
   }
+}
+
+// The world coordinates of a mapped marker's keypoints: the map's corners for a square marker,
+// the keypoints placed by the marker's map pose for a board.
+std::vector<Vec3> world_keypoints(const Detection& detection, const MapMarker& mapped) {
+  if (detection.keypoints_marker.empty())
+    return {mapped.corners_world.begin(), mapped.corners_world.end()};
+  const auto square = marker_frame_corners(mapped.size);
+  const RigidFit T_world_marker = fit_rigid(
+      {square.begin(), square.end()}, {mapped.corners_world.begin(), mapped.corners_world.end()});
+  std::vector<Vec3> world = marker_frame_keypoints(detection, mapped.size);
+  for (Vec3& p : world) p = T_world_marker.T * p;
+  return world;
 }
 
 // A marker whose black square spans fewer image rows or columns than it has cells was decoded
@@ -123,12 +138,17 @@ const FrameResult& Pipeline::process(const PointView& cloud) {
                                     return undersampled(d, options_.min_samples_per_cell);
                                   }),
                    detections.end());
+  // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
+  drop_duplicate_detections(detections, [&](const Detection& d) {
+    return options_.map && options_.map->find(d.family, d.id) != nullptr;
+  });
   r.times_ms.detect = watch.lap_ms();
 
   for (Detection& detection : detections) {
     MarkerResult marker;
     if (options_.lift == LiftMethod::kPlane) {
-      marker.plane = fit_marker_plane(detection.corners_px, r.image, cloud, options_.plane_fit);
+      marker.plane =
+          fit_marker_plane(keypoint_outline(detection), r.image, cloud, options_.plane_fit);
       for (const Vec2& px : detection.corners_px)
         marker.corners.push_back(lift_on_plane(px, r.image, *marker.plane));
     } else {
@@ -154,9 +174,10 @@ const FrameResult& Pipeline::process(const PointView& cloud) {
       if (!marker.in_map) continue;
       const MapMarker* mapped = options_.map->find(marker.detection.family, marker.detection.id);
       MarkerCorrespondence c{mapped->key(), {}, {}};
-      for (std::size_t k = 0; k < marker.corners.size() && k < 4; ++k) {
+      const std::vector<Vec3> world = world_keypoints(marker.detection, *mapped);
+      for (std::size_t k = 0; k < marker.corners.size() && k < world.size(); ++k) {
         if (!marker.corners[k].valid()) continue;
-        c.world.push_back(mapped->corners_world[k]);
+        c.world.push_back(world[k]);
         c.lidar.push_back(marker.lifted_points.empty() ? marker.corners[k].point
                                                        : marker.lifted_points[k]);
       }

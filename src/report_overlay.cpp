@@ -42,9 +42,10 @@ cv::Mat draw_overlay(const FrameResult& result) {
   for (const MarkerResult& m : result.markers) {
     const auto& c = m.detection.corners_px;
     const std::size_t n = c.size();
-    for (std::size_t k = 0; k < n; ++k) {
-      cv::line(canvas, to_canvas(c[k]), to_canvas(c[(k + 1) % n]), cv::Scalar(0, 160, 255),
-               thickness, cv::LINE_AA);
+    const std::vector<Vec2> outline = keypoint_outline(m.detection);  // a board: its hull
+    for (std::size_t k = 0; k < outline.size(); ++k) {
+      cv::line(canvas, to_canvas(outline[k]), to_canvas(outline[(k + 1) % outline.size()]),
+               cv::Scalar(0, 160, 255), thickness, cv::LINE_AA);
     }
     for (std::size_t k = 0; k < n; ++k) {
       const cv::Point2d p = to_canvas(c[k]);

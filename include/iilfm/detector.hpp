@@ -15,10 +15,23 @@ namespace iilfm {
 struct Detection {
   std::string family;  // e.g. "apriltag:tag36h11"
   int id = -1;
-  std::vector<Vec2> corners_px;  // canonical order: top-left, top-right, bottom-right, bottom-left
-  int hamming = 0;               // bits corrected while decoding
-  double decision_margin = 0;    // back-end's decoding confidence (AprilTag: mean bit margin)
+  // The keypoints. Square markers: the four corners of the square, in the canonical order
+  // top-left, top-right, bottom-right, bottom-left. Boards: N points, as keypoints_marker says.
+  std::vector<Vec2> corners_px;
+  // Where each keypoint lies on the marker, in its marker frame (origin at the centre, x to the
+  // right, y up on the print) in units of the marker size. Empty for square markers: their
+  // corners, (-0.5, 0.5), (0.5, 0.5), (0.5, -0.5), (-0.5, -0.5).
+  std::vector<Vec2> keypoints_marker;
+  int hamming = 0;             // bits corrected while decoding
+  double decision_margin = 0;  // back-end's decoding confidence (AprilTag: mean bit margin)
 };
+
+// The keypoints' marker-frame coordinates in metres (z = 0) for a marker of edge `size`.
+std::vector<Vec3> marker_frame_keypoints(const Detection& detection, double size);
+
+// The keypoints' outline in the image: the corners of a square marker, the convex hull of a
+// board's keypoints (what the marker plane is fitted inside).
+std::vector<Vec2> keypoint_outline(const Detection& detection);
 
 // Options of the AprilTag 3 back-end (libapriltag's detector fields).
 struct AprilTagOptions {

@@ -2,11 +2,13 @@
 // OpenCV's drawMarker), so the simulated print is exactly what the detector expects.
 #include "iilfm/sim/marker_texture.hpp"
 
+#include <algorithm>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/aruco_dictionaries.hpp"
+#include "iilfm/charuco_boards.hpp"
 #include "iilfm/error.hpp"
 
 namespace iilfm::sim {
@@ -14,6 +16,7 @@ namespace {
 
 constexpr const char* kAprilTagPrefix = "apriltag:";
 constexpr const char* kArucoPrefix = "aruco:";
+constexpr const char* kCharucoPrefix = "charuco:";
 
 bool has_prefix(const std::string& text, const std::string& prefix) {
   return text.compare(0, prefix.size(), prefix) == 0;
@@ -26,12 +29,26 @@ bool has_prefix(const std::string& text, const std::string& prefix) {
                    ")");
 }
 
+// apriltag_to_image leaves every cell that is not a bit or the white border black, the corners of
+// a circle tag included; the official circle prints have no ink there. Cells whose centre lies
+// outside the circle inscribed in the image are paper (white), as printed.
+void clear_outside_circle(MarkerTexture& texture) {
+  const double radius = 0.5 * texture.total_width;
+  for (int row = 0; row < texture.total_width; ++row)
+    for (int col = 0; col < texture.total_width; ++col) {
+      const double dx = col + 0.5 - radius, dy = row + 0.5 - radius;
+      if (dx * dx + dy * dy > radius * radius)
+        texture.pixels[static_cast<std::size_t>(row * texture.total_width + col)] = 255;
+    }
+}
+
 MarkerTexture apriltag_texture(const std::string& name, int id) {
   AprilTagImage image = render_apriltag(name, id);
   MarkerTexture texture;
   texture.total_width = image.total_width;
   texture.width_at_border = image.width_at_border;
   texture.pixels = std::move(image.pixels);
+  if (name.rfind("tagCircle", 0) == 0) clear_outside_circle(texture);
   return texture;
 }
 
@@ -52,6 +69,29 @@ MarkerTexture aruco_texture(const ArucoDictionaryEntry& entry, const std::string
   texture.total_width = border + 2;
   texture.width_at_border = border;
   texture.pixels.assign(sheet.begin<std::uint8_t>(), sheet.end<std::uint8_t>());
+  return texture;
+}
+
+// OpenCV's drawing of the board at one pixel per cell with one white cell around it, centred on a
+// square sheet (the texture is square): the sheet's centre is the board's centre, and one
+// chessboard square is the marker size.
+MarkerTexture charuco_texture(const std::string& family, int id) {
+  const CharucoBoardSpec spec =
+      parse_charuco_board(family.substr(std::string(kCharucoPrefix).size()));
+  // Texture cells are half cells when the board's sides differ by an odd number of cells, so
+  // the padding to a square sheet splits evenly.
+  const int scale = (spec.squares_x - spec.squares_y) * spec.square_cells() % 2 != 0 ? 2 : 1;
+  const cv::Mat board = draw_charuco_cells(spec, id, family, 1, scale);
+  const int side = std::max(board.cols, board.rows);
+  cv::Mat sheet;
+  cv::copyMakeBorder(board, sheet, (side - board.rows) / 2, (side - board.rows) / 2,
+                     (side - board.cols) / 2, (side - board.cols) / 2, cv::BORDER_CONSTANT,
+                     cv::Scalar(255));
+  MarkerTexture texture;
+  texture.total_width = side;
+  texture.width_at_border = spec.square_cells() * scale;
+  for (auto it = sheet.begin<std::uint8_t>(); it != sheet.end<std::uint8_t>(); ++it)
+    texture.pixels.push_back(*it < 128 ? 0 : 255);
   return texture;
 }
 
@@ -85,6 +125,8 @@ MarkerTexture render_marker_texture(const std::string& family, int id) {
     const ArucoDictionaryEntry* entry =
         find_aruco_dictionary(family.substr(std::string(kArucoPrefix).size()));
     if (entry) return aruco_texture(*entry, family, id);
+  } else if (has_prefix(family, kCharucoPrefix)) {
+    return charuco_texture(family, id);
   }
   unknown_family(family);
 }

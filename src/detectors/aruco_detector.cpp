@@ -27,51 +27,12 @@ int opencv_refine_method(ArucoRefine refine) {
   return cv::aruco::CORNER_REFINE_NONE;
 }
 
-void check_options(const ArucoOptions& o) {
-  if (o.window_min < 3 || o.window_max < o.window_min || o.window_step < 1)
-    throw InputError("ArUco threshold windows need 3 <= min <= max and step >= 1");
-  if (o.refine_window < 1) throw InputError("ArUco refinement window must be at least 1 pixel");
-  if (!(o.min_perimeter_rate > 0) || !(o.max_perimeter_rate > o.min_perimeter_rate))
-    throw InputError("ArUco perimeter rates need 0 < min < max");
-  if (!(o.error_correction_rate >= 0 && o.error_correction_rate <= 1))
-    throw InputError("ArUco error correction rate must lie in [0, 1]");
-  if (!(o.min_cell_px >= 0) || !(o.max_side_ratio >= 1) ||
-      !(o.min_quiet_zone >= 0 && o.min_quiet_zone <= 1))
-    throw InputError(
-        "ArUco filter needs min_cell_px >= 0, max_side_ratio >= 1, min_quiet_zone in [0, 1]");
-}
-
-cv::Ptr<cv::aruco::DetectorParameters> opencv_parameters(const ArucoOptions& o) {
-  auto p = cv::aruco::DetectorParameters::create();
-  p->adaptiveThreshWinSizeMin = o.window_min;
-  p->adaptiveThreshWinSizeMax = o.window_max;
-  p->adaptiveThreshWinSizeStep = o.window_step;
-  p->adaptiveThreshConstant = o.threshold_constant;
-  p->cornerRefinementMethod = opencv_refine_method(o.refine);
-  p->cornerRefinementWinSize = o.refine_window;
-  p->minMarkerPerimeterRate = o.min_perimeter_rate;
-  p->maxMarkerPerimeterRate = o.max_perimeter_rate;
-  p->errorCorrectionRate = o.error_correction_rate;
-  return p;
-}
-
-// Measured (test_aruco_detector.cpp): the AprilTag refinement reports pixel centres at i + 0.5;
-// the contour-based methods (none, contour) put the quad through the centres of the outermost
-// black pixels, inside the true edge. Both are moved onto the edge, with centres at integers.
-void to_edge_convention(ArucoRefine refine, std::vector<Vec2>& corners) {
-  if (refine == ArucoRefine::kAprilTag) {
-    for (Vec2& c : corners) c -= Vec2(0.5, 0.5);
-  } else if (refine != ArucoRefine::kSubpixel) {
-    push_edges_outward(corners);
-  }
-}
-
 class ArucoDetector final : public MarkerDetector {
  public:
   ArucoDetector(const ArucoDictionaryEntry& entry, const ArucoOptions& options)
       : name_(std::string("aruco:") + entry.name),
         dictionary_(cv::aruco::getPredefinedDictionary(entry.id)),
-        parameters_(opencv_parameters(options)),
+        parameters_(aruco_parameters(options)),
         options_(options),
         border_width_(dictionary_->markerSize + 2) {}
 
@@ -117,6 +78,45 @@ const ArucoDictionaryEntry& dictionary_or_throw(const std::string& dictionary) {
 }
 
 }  // namespace
+
+void check_aruco_options(const ArucoOptions& o) {
+  if (o.window_min < 3 || o.window_max < o.window_min || o.window_step < 1)
+    throw InputError("ArUco threshold windows need 3 <= min <= max and step >= 1");
+  if (o.refine_window < 1) throw InputError("ArUco refinement window must be at least 1 pixel");
+  if (!(o.min_perimeter_rate > 0) || !(o.max_perimeter_rate > o.min_perimeter_rate))
+    throw InputError("ArUco perimeter rates need 0 < min < max");
+  if (!(o.error_correction_rate >= 0 && o.error_correction_rate <= 1))
+    throw InputError("ArUco error correction rate must lie in [0, 1]");
+  if (!(o.min_cell_px >= 0) || !(o.max_side_ratio >= 1) ||
+      !(o.min_quiet_zone >= 0 && o.min_quiet_zone <= 1))
+    throw InputError(
+        "ArUco filter needs min_cell_px >= 0, max_side_ratio >= 1, min_quiet_zone in [0, 1]");
+}
+
+cv::Ptr<cv::aruco::DetectorParameters> aruco_parameters(const ArucoOptions& o) {
+  auto p = cv::aruco::DetectorParameters::create();
+  p->adaptiveThreshWinSizeMin = o.window_min;
+  p->adaptiveThreshWinSizeMax = o.window_max;
+  p->adaptiveThreshWinSizeStep = o.window_step;
+  p->adaptiveThreshConstant = o.threshold_constant;
+  p->cornerRefinementMethod = opencv_refine_method(o.refine);
+  p->cornerRefinementWinSize = o.refine_window;
+  p->minMarkerPerimeterRate = o.min_perimeter_rate;
+  p->maxMarkerPerimeterRate = o.max_perimeter_rate;
+  p->errorCorrectionRate = o.error_correction_rate;
+  return p;
+}
+
+// Measured (test_aruco_detector.cpp): the AprilTag refinement reports pixel centres at i + 0.5;
+// the contour-based methods (none, contour) put the quad through the centres of the outermost
+// black pixels, inside the true edge. Both are moved onto the edge, with centres at integers.
+void to_edge_convention(ArucoRefine refine, std::vector<Vec2>& corners) {
+  if (refine == ArucoRefine::kAprilTag) {
+    for (Vec2& c : corners) c -= Vec2(0.5, 0.5);
+  } else if (refine != ArucoRefine::kSubpixel) {
+    push_edges_outward(corners);
+  }
+}
 
 void push_edges_outward(std::vector<Vec2>& corners) {
   const std::size_t n = corners.size();
@@ -210,7 +210,7 @@ double quiet_zone_fraction(const cv::Mat& gray, const std::vector<Vec2>& corners
 std::unique_ptr<MarkerDetector> make_aruco_detector(const std::string& dictionary,
                                                     const ArucoOptions& options) {
   const ArucoDictionaryEntry& entry = dictionary_or_throw(dictionary);
-  check_options(options);
+  check_aruco_options(options);
   return std::make_unique<ArucoDetector>(entry, options);
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -13,6 +14,14 @@ namespace iilfm::detail {
 // `dictionary` is OpenCV's name ("DICT_4X4_50"); InputError if OpenCV does not predefine it.
 std::unique_ptr<MarkerDetector> make_aruco_detector(const std::string& dictionary,
                                                     const ArucoOptions& options);
+
+// InputError for inconsistent options; OpenCV's parameters for them.
+void check_aruco_options(const ArucoOptions& options);
+cv::Ptr<cv::aruco::DetectorParameters> aruco_parameters(const ArucoOptions& options);
+
+// Moves OpenCV's marker corners, refined by `refine`, onto the black square's edge with pixel
+// centres at integers (iilfm's convention).
+void to_edge_convention(ArucoRefine refine, std::vector<Vec2>& corners);
 
 // The black square is markerSize + 2 cells wide (one-cell border); drawMarker's users are told to
 // leave a white margin, taken here as one cell on each side.

@@ -1,9 +1,10 @@
-// Maps "backend:family" strings to back-ends. A new back-end adds one branch here.
+// Maps "backend:family" strings to back-ends. A new back-end adds one row to backends().
 #include <string>
 
 #include "apriltag_detector.hpp"
 #include "aruco_detector.hpp"
 #include "aruco_dictionaries.hpp"
+#include "charuco_detector.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/detector.hpp"
 #include "iilfm/error.hpp"
@@ -12,20 +13,67 @@ namespace iilfm {
 
 namespace {
 
+// What the registry needs of a back-end; `family` arguments come without the "backend:" prefix.
+struct Backend {
+  const char* name;
+  std::unique_ptr<MarkerDetector> (*make)(const std::string& family, const DetectorOptions&);
+  std::vector<std::string> (*families)();
+  FamilyLayout (*layout)(const std::string& family);
+};
+
+const std::vector<Backend>& backends() {
+  static const std::vector<Backend> table = {
+      {"apriltag",
+       [](const std::string& f, const DetectorOptions& o) {
+         return detail::make_apriltag_detector(f, o.apriltag);
+       },
+       [] {
+         std::vector<std::string> names;
+         for (const auto& entry : apriltag_families()) names.emplace_back(entry.name);
+         return names;
+       },
+       detail::apriltag_layout},
+      {"aruco",
+       [](const std::string& f, const DetectorOptions& o) {
+         return detail::make_aruco_detector(f, o.aruco);
+       },
+       [] {
+         std::vector<std::string> names;
+         for (const auto& entry : detail::aruco_dictionaries()) names.emplace_back(entry.name);
+         return names;
+       },
+       detail::aruco_layout},
+      {"charuco",
+       [](const std::string& f, const DetectorOptions& o) {
+         return detail::make_charuco_detector(f, o.aruco);
+       },
+       detail::charuco_example_families, detail::charuco_layout},
+  };
+  return table;
+}
+
 struct FamilyName {
-  std::string backend, family;
+  const Backend* backend;
+  std::string family;
 };
 
 FamilyName split_family(const std::string& name) {
   const auto colon = name.find(':');
   if (colon == std::string::npos) {
-    const std::string hint = find_apriltag_family(name) ? " (did you mean 'apriltag:" + name + "'?)"
-                             : detail::find_aruco_dictionary(name)
-                                 ? " (did you mean 'aruco:" + name + "'?)"
-                                 : " (expected BACKEND:FAMILY, e.g. apriltag:tag36h11)";
+    std::string hint = " (expected BACKEND:FAMILY, e.g. apriltag:tag36h11)";
+    for (const Backend& b : backends())
+      for (const std::string& f : b.families())
+        if (f == name) hint = " (did you mean '" + std::string(b.name) + ":" + name + "'?)";
     throw InputError("unknown marker family '" + name + "'" + hint);
   }
-  return {name.substr(0, colon), name.substr(colon + 1)};
+  const std::string backend = name.substr(0, colon);
+  std::string available;
+  for (const Backend& b : backends()) {
+    if (backend == b.name) return {&b, name.substr(colon + 1)};
+    available += (available.empty() ? "" : ", ") + std::string(b.name);
+  }
+  throw InputError("unknown marker back-end '" + backend + "' in '" + name +
+                   "' (available: " + available + ")");
 }
 
 }  // namespace
@@ -33,27 +81,19 @@ FamilyName split_family(const std::string& name) {
 std::unique_ptr<MarkerDetector> make_detector(const std::string& family,
                                               const DetectorOptions& options) {
   const FamilyName name = split_family(family);
-  if (name.backend == "apriltag")
-    return detail::make_apriltag_detector(name.family, options.apriltag);
-  if (name.backend == "aruco") return detail::make_aruco_detector(name.family, options.aruco);
-  throw InputError("unknown marker back-end '" + name.backend + "' in '" + family +
-                   "' (available: apriltag, aruco)");
+  return name.backend->make(name.family, options);
 }
 
 std::vector<std::string> known_families() {
   std::vector<std::string> names;
-  for (const auto& entry : apriltag_families())
-    names.push_back(std::string("apriltag:") + entry.name);
-  for (const auto& entry : detail::aruco_dictionaries())
-    names.push_back(std::string("aruco:") + entry.name);
+  for (const Backend& b : backends())
+    for (const std::string& f : b.families()) names.push_back(std::string(b.name) + ":" + f);
   return names;
 }
 
 FamilyLayout family_layout(const std::string& family) {
   const FamilyName name = split_family(family);
-  if (name.backend == "apriltag") return detail::apriltag_layout(name.family);
-  if (name.backend == "aruco") return detail::aruco_layout(name.family);
-  throw InputError("unknown marker back-end '" + name.backend + "' in '" + family + "'");
+  return name.backend->layout(name.family);
 }
 
 }  // namespace iilfm

@@ -16,7 +16,8 @@ struct MarkerTexture {
   bool is_black(int row, int col) const { return pixels[row * total_width + col] < 128; }
 };
 
-// Renders `id` of a family named "apriltag:<name>" with libapriltag's apriltag_to_image, or
+// Renders `id` of a family named "apriltag:<name>" with libapriltag's apriltag_to_image (the
+// tagCircle families with white paper outside their circle, as officially printed), or
 // "aruco:<DICT_...>" with OpenCV's drawMarker (one-cell black border, as the detector expects)
 // inside a one-cell white margin, like apriltag_to_image's tag36h11. InputError for other
 // prefixes, unknown families and ids outside the family.
