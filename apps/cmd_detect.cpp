@@ -31,6 +31,7 @@ struct DetectArgs {
   std::string input;
   std::string sensor;
   double res_h = 0, res_v = 0;
+  std::size_t max_image_pixels = ProjectionOptions{}.max_pixels;
   std::vector<std::string> markers;
   std::string map_path;
   double marker_size = 0;
@@ -112,6 +113,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   }
   if (args.res_h > 0) options.projection.res_h_deg = args.res_h;
   if (args.res_v > 0) options.projection.res_v_deg = args.res_v;
+  options.projection.max_pixels = args.max_image_pixels;
 
   set_threshold(args.threshold, options);
   options.preprocess.binarize = !args.gray_input;
@@ -185,6 +187,16 @@ void report_estimate(const ResolutionEstimate& estimated) {
   std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
 }
 
+// The pipeline's own refusals (an image over --max-image-pixels) name the input file.
+const FrameResult& process_or_explain(Pipeline& pipeline, const PointCloud& cloud,
+                                      const std::string& input) {
+  try {
+    return pipeline.process(cloud);
+  } catch (const InputError& e) {
+    throw file_error(input, std::string(e.what()) + " (--max-image-pixels raises the limit)");
+  }
+}
+
 int run_detect(const DetectArgs& args) {
   if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
   if (args.html_frame >= 0 && args.html_path.empty())
@@ -242,11 +254,12 @@ int run_detect(const DetectArgs& args) {
 
   std::optional<ResolutionEstimate> estimated;
   Pipeline pipeline(pipeline_options(args, loaded.cloud, estimated));
-  if (estimated && !args.quiet) report_estimate(*estimated);
   info.resolution_source = estimated              ? "estimated (" + estimated->method + ")"
                            : !args.sensor.empty() ? "preset " + args.sensor
                                                   : "given";
-  const FrameResult& result = pipeline.process(loaded.cloud);
+  const FrameResult& result = process_or_explain(pipeline, loaded.cloud, args.input);
+  // Printed only now, so a refused cloud leaves nothing on stdout.
+  if (estimated && !args.quiet) report_estimate(*estimated);
   if (!args.json_path.empty()) {
     const std::string text = result_to_json(result, info).dump(2) + "\n";
     std::ofstream file(args.json_path);
@@ -274,6 +287,10 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
   cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");
   cmd->add_option("--res-v", args->res_v, "Vertical angular resolution, degrees");
+  cmd->add_option("--max-image-pixels", args->max_image_pixels,
+                  "Refuse clouds whose intensity image would have more pixels than this")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--marker", args->markers,
                   "Marker family, repeatable (default apriltag:tag36h11)");
   cmd->add_option("--map", args->map_path, "Marker map YAML: enables the LiDAR pose");

@@ -45,6 +45,16 @@ class LineFile {
 };
 
 // "1629371234.123456789 tx ty tz qx qy qz qw": the TUM RGB-D trajectory format.
+// The pipeline's own refusals (an image over --max-image-pixels) name the frame.
+const FrameResult& process_frame(Pipeline& pipeline, const FrameWindow& window,
+                                 const std::string& source) {
+  try {
+    return pipeline.process(window);
+  } catch (const InputError& e) {
+    throw file_error(source, std::string(e.what()) + " (--max-image-pixels raises the limit)");
+  }
+}
+
 std::string tum_line(double stamp_s, const Isometry3& T) {
   const Vec3 t = T.translation();
   const Eigen::Quaterniond q(T.linear());
@@ -133,7 +143,7 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           pipeline.emplace(make_options(window.copy()));
           if (html && pipeline->options().map) html->set_map(*pipeline->options().map);
         }
-        const FrameResult& result = pipeline->process(window);
+        const FrameResult& result = process_frame(*pipeline, window, frame.source);
         line = result_to_json(result, info);
         if (html && shown_in_full(args, *html, frame.index, !result.markers.empty()))
           html->show(HtmlFrame{&result, info, cloud}, counts.results);

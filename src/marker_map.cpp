@@ -97,6 +97,9 @@ void validate_geometry(MapMarker& marker, const MapTolerances& tol) {
     mean_edge += edges[k] / 4;
   }
   if (!(mean_edge > 1e-6)) throw InputError("corners coincide");
+  // Corners near the float limits overflow the edge lengths; every check below would then pass.
+  if (!std::isfinite(mean_edge))
+    throw InputError("corners are too far apart: their edge lengths overflow");
   for (int k = 0; k < 4; ++k) {
     if (std::abs(edges[k] - mean_edge) > tol.squareness * mean_edge)
       throw InputError("corners are not a square: edge " + std::to_string(k + 1) + " is " +
@@ -115,7 +118,7 @@ void validate_geometry(MapMarker& marker, const MapTolerances& tol) {
   const Vec3 normal = eig.eigenvectors().col(0);
   double worst = 0;
   for (const Vec3& p : c) worst = std::max(worst, std::abs(normal.dot(p - centre)));
-  if (worst > tol.planarity_m)
+  if (!(worst <= tol.planarity_m))
     throw InputError("corners are not planar: a corner is " + fmt(worst * 1000) +
                      " mm off their plane (tolerance " + fmt(tol.planarity_m * 1000) + " mm)");
   marker.size = mean_edge;

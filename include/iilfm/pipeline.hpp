@@ -1,5 +1,14 @@
 // One frame through every stage: projection, preprocessing, detection, lifting, pose. Pipeline only
-// wires the stages and times them; each stage is usable on its own. One Pipeline per thread.
+// wires the stages and times them; each stage is usable on its own.
+//
+// Threads: one Pipeline per thread. process() reuses the pipeline's buffers (projector, detectors,
+// result), so a Pipeline, a SphericalProjector, a MarkerDetector, a FrameWindow, a FrameSource and
+// a BagReader each belong to one thread at a time. Pipelines in different threads share nothing
+// mutable (the family, dictionary and sensor tables are immutable function statics), so any number
+// run in parallel (tests/threads). Shareable read-only across threads: PipelineOptions, MarkerMap,
+// SensorPreset, PointCloud and PointView (nobody writing them). A FrameResult is the owning
+// Pipeline's until its next process() call. AprilTagOptions::threads > 1 starts libapriltag's own
+// worker pool inside that one call.
 #pragma once
 
 #include <memory>

@@ -38,6 +38,9 @@ class AprilTagDetector final : public MarkerDetector {
 
   void detect(const cv::Mat& gray, std::vector<Detection>& out) override {
     CV_Assert(gray.type() == CV_8UC1);
+    // libapriltag 3.3 reads outside images under 6 pixels wide or high (a one-row image from a
+    // degenerate cloud crashed the fuzzer); upstream now returns nothing for them, and no tag fits.
+    if (gray.cols < 6 || gray.rows < 6) return;
     image_u8_t image{gray.cols, gray.rows, static_cast<std::int32_t>(gray.step[0]),
                      const_cast<std::uint8_t*>(gray.ptr<std::uint8_t>())};
     zarray_t* found = apriltag_detector_detect(detector_, &image);
@@ -58,7 +61,9 @@ class AprilTagDetector final : public MarkerDetector {
   }
 
  private:
-  const AprilTagFamilyEntry& entry_;
+  // A copy, not a reference into the families table: a detector outliving that function-static
+  // table (a Pipeline with static storage made before the table) still destroys its family.
+  const AprilTagFamilyEntry entry_;
   std::string name_;
   apriltag_family_t* family_ = nullptr;
   apriltag_detector_t* detector_ = nullptr;

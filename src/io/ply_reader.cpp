@@ -88,7 +88,9 @@ PlyHeader parse_header(const FileBytes& file, const std::string& path) {
       format_seen = true;
     } else if (keyword == "element") {
       double count;
-      if (n != 3 || !parse_number(words[2], count) || count < 0 || count != std::floor(count))
+      // 2^63 and beyond cannot be converted to the count type (and no file holds that many).
+      if (n != 3 || !parse_number(words[2], count) || count < 0 || count != std::floor(count) ||
+          !(count < 9.2e18))
         throw file_error(path, "PLY header line " + std::to_string(line_number) +
                                    ": expected 'element NAME COUNT'");
       header.elements.push_back({std::string(words[1]), static_cast<std::uint64_t>(count), {}});

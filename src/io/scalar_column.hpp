@@ -18,9 +18,11 @@ enum class ScalarType : std::uint8_t { kI8, kI16, kI32, kI64, kU8, kU16, kU32, k
 template <typename Dst, typename Src>
 Dst convert_scalar(Src v) {
   if constexpr (std::is_same_v<Dst, float> && std::is_same_v<Src, double>) {
-    constexpr double kMax = std::numeric_limits<float>::max();
-    if (v > kMax) return std::numeric_limits<float>::infinity();
-    if (v < -kMax) return -std::numeric_limits<float>::infinity();
+    // Values from FLT_MAX up to half a float step above it round to FLT_MAX (the shortest decimal
+    // of FLT_MAX, 3.4028235e+38, is such a value); only those beyond overflow.
+    constexpr double kOverflow = 0x1.ffffffp127;
+    if (v >= kOverflow) return std::numeric_limits<float>::infinity();
+    if (v <= -kOverflow) return -std::numeric_limits<float>::infinity();
     return static_cast<float>(v);
   } else if constexpr (std::is_same_v<Dst, std::uint16_t>) {
     constexpr std::uint16_t kTop = std::numeric_limits<std::uint16_t>::max();

@@ -1,0 +1,19 @@
+// Fuzz target: the x y z [intensity] text reader on arbitrary bytes. InputError is the one accepted
+// failure; a cloud that comes back must satisfy check_cloud.
+#include <cstddef>
+#include <cstdint>
+
+#include "cloud_checks.hpp"
+#include "fuzz_input.hpp"
+#include "iilfm/error.hpp"
+#include "iilfm/io/cloud_io.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static iilfm::fuzz::ScratchFile scratch;
+  scratch.path = iilfm::fuzz::write_input(data, size, ".xyz");
+  try {
+    iilfm::fuzz::check_cloud(iilfm::io::read_xyz_text(scratch.path));
+  } catch (const iilfm::InputError&) {
+  }
+  return 0;
+}
