@@ -69,9 +69,9 @@ TEST(LongRun, MemoryStaysFlatOverASequence) {
     auto source = io::open_frame_source(dir.file("."), "");
     io::Frame frame;
     while (processed < frames && source->next(frame)) {
-      window.push(std::move(frame.loaded.cloud), frame.loaded.stats);
-      const FrameResult& result = pipeline.process(window.cloud());
-      const std::string json = result_to_json(result, {frame.source, window.stats()}).dump();
+      window.push(frame.loaded.cloud, frame.loaded.stats);
+      const FrameResult& result = pipeline.process(window);
+      const std::string json = result_to_json(result, {frame.source, window.stats(), 0, ""}).dump();
       ASSERT_FALSE(json.empty());
       with_markers += result.markers.empty() ? 0 : 1;
       if (++processed == kWarmupFrames) rss_warm = testing::resident_bytes();
