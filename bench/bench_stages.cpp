@@ -8,6 +8,7 @@
 #include "bench_support.hpp"
 #include "iilfm/frame_window.hpp"
 #include "iilfm/io/cloud_io.hpp"
+#include "iilfm/sim/sim.hpp"
 #include "iilfm/window_projection.hpp"
 
 namespace iilfm {
@@ -123,7 +124,18 @@ void BM_WindowPush(benchmark::State& state) {
                              : "pipeline");
 }
 
+// The simulator: 40 Mid-40 frames of the 35-marker grid (400k rays against two walls).
+void BM_Simulate(benchmark::State& state) {
+  const sim::SceneSetup setup = sim::named_scene("grid");
+  sim::SimOptions o;
+  o.T_world_lidar = setup.T_world_lidar;
+  o.frames = 40;
+  const sim::SensorModel sensor = sim::sensor_model("mid40");
+  for (auto _ : state) benchmark::DoNotOptimize(sim::simulate(setup.scene, sensor, o).cloud.size());
+}
+
 void register_all() {
+  benchmark::RegisterBenchmark("Simulate/grid-40", BM_Simulate)->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("WindowPush/mid40-60", BM_WindowPush)
       ->ArgName("mode")
       ->Arg(0)

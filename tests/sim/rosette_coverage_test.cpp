@@ -1,7 +1,6 @@
 // The rosette never repeats: the covered part of the field of view grows with integration time.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -88,21 +87,14 @@ TEST(Rosette, PatternStaysInsideTheConeAndReachesItsRim) {
   EXPECT_LT(nearest_axis, 0.1);  // every petal passes through the centre
 }
 
-TEST(Rosette, FortyFrameScanOfTheGridIsFast) {
+// Its speed is measured in bench/ (Simulate/grid-40), not here.
+TEST(Rosette, FortyFrameScanOfTheGridHasEveryPoint) {
   const SceneSetup setup = named_scene("grid");
   SimOptions o;
   o.T_world_lidar = setup.T_world_lidar;
   o.frames = 40;
-  const auto start = std::chrono::steady_clock::now();
   const SimResult r = simulate(setup.scene, mid40(), o);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  std::cout << "[ measured ] Mid-40 40 frames, grid scene (35 markers, 2 walls): " << r.cloud.size()
-            << " points in " << ms << " ms\n";
   EXPECT_EQ(r.cloud.size(), 400000u);
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
-  EXPECT_LT(ms, 1000);  // optimised builds only: sanitizers slow this down 20-fold
-#endif
 }
 
 }  // namespace
