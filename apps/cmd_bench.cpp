@@ -22,7 +22,7 @@ namespace {
 struct BenchArgs {
   std::vector<std::string> scans;
   int repeat = 30;
-  int threads = 2;
+  int threads = 1;
   bool markdown = false;
 };
 

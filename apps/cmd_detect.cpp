@@ -49,7 +49,7 @@ struct DetectArgs {
   float decimate = 1;
   float quad_sigma = 0;
   bool no_refine_edges = false;
-  int threads = 2;
+  int threads = 1;
   int max_hamming = -1;
   std::string aruco_refine = "contour";
   int aruco_window_min = ArucoOptions{}.window_min;

@@ -16,9 +16,9 @@ out="$(mktemp)"
   echo
   "$build/bin/iilfm" bench --markdown --repeat "$repeat"
   echo
-  echo "With one AprilTag thread (\`--threads 1\`; the default is 2):"
+  echo "With two AprilTag threads (\`--threads 2\`; the default is 1):"
   echo
-  "$build/bin/iilfm" bench --markdown --repeat "$repeat" --threads 1 | grep -v '^iilfm bench'
+  "$build/bin/iilfm" bench --markdown --repeat "$repeat" --threads 2 | grep -v '^iilfm bench'
   if [ -x "$build/bin/iilfm_bench_baseline" ]; then
     echo
     echo "### Side by side with the paper's implementation approach (\`iilfm_bench_baseline\`)"

@@ -145,7 +145,7 @@ class Pipeline:
         decimate: float = 1.0,
         quad_sigma: float = 0.0,
         refine_edges: bool = True,
-        threads: int = 2,
+        threads: int = 1,
         max_hamming: int = -1,
         aruco_refine: str = "contour",
         aruco_window_min: int = 3,

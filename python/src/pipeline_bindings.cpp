@@ -32,7 +32,7 @@ struct Options {
   double blur = 0;
   bool gray = false, refine_edges = true;
   float decimate = 1, quad_sigma = 0;
-  int threads = 2, max_hamming = -1;
+  int threads = 1, max_hamming = -1;
   int aruco_window_min = ArucoOptions{}.window_min, aruco_window_max = ArucoOptions{}.window_max,
       aruco_window_step = ArucoOptions{}.window_step;
 };
@@ -484,7 +484,7 @@ void register_pipeline(py::module_& m) {
            py::arg("threshold") = py::none(), py::arg("lift") = "plane",
            py::arg("collision") = "mean", py::arg("blur") = 0.0, py::arg("gray") = false,
            py::arg("decimate") = 1.0f, py::arg("quad_sigma") = 0.0f, py::arg("refine_edges") = true,
-           py::arg("threads") = 2, py::arg("max_hamming") = -1, py::arg("aruco_refine") = "contour",
+           py::arg("threads") = 1, py::arg("max_hamming") = -1, py::arg("aruco_refine") = "contour",
            py::arg("aruco_window_min") = ArucoOptions{}.window_min,
            py::arg("aruco_window_max") = ArucoOptions{}.window_max,
            py::arg("aruco_window_step") = ArucoOptions{}.window_step,
