@@ -10,47 +10,65 @@ namespace iilfm {
 
 namespace {
 
-// Least-squares plane through points (smallest principal axis of their scatter).
+// Least-squares plane through points (smallest principal axis of their scatter), without its
+// uncertainty (add_plane_uncertainty): the robust fit's intermediate planes do not need it.
 Plane fit_plane(const std::vector<Vec3>& points) {
   Plane plane;
   if (points.size() < 3) return plane;
   Vec3 centre = Vec3::Zero();
   for (const Vec3& p : points) centre += p;
   centre /= static_cast<double>(points.size());
-  Mat3 scatter = Mat3::Zero();
-  for (const Vec3& p : points) scatter += (p - centre) * (p - centre).transpose();
+  // The six distinct entries of the scatter matrix, one pass.
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  for (const Vec3& p : points) {
+    const double x = p.x() - centre.x(), y = p.y() - centre.y(), z = p.z() - centre.z();
+    xx += x * x;
+    xy += x * y;
+    xz += x * z;
+    yy += y * y;
+    yz += y * z;
+    zz += z * z;
+  }
+  Mat3 scatter;
+  scatter << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(scatter);
   // The two larger spreads must be real: a row of points does not define a plane.
   if (!(eig.eigenvalues()(1) > 1e-12)) return plane;
   plane.normal = eig.eigenvectors().col(0);
   if (plane.normal.dot(centre) > 0) plane.normal = -plane.normal;  // face the sensor
   plane.d = plane.normal.dot(centre);
-  double sum_sq = 0;
-  for (const Vec3& p : points) sum_sq += std::pow(plane.normal.dot(p) - plane.d, 2);
-  const double n = static_cast<double>(points.size());
-  plane.rms = std::sqrt(sum_sq / n);
-  plane.inliers = points.size();
-  plane.ok = true;
-  // Uncertainty from the residuals themselves (heteroscedasticity-consistent, White's sandwich):
-  // the points are not equally noisy (a pixel's point may be the mean of several returns, and a
-  // rosette is densest at its centre), so the far, sparse points that fix the slope must count
-  // with their own scatter. Scaled by n / (n - 3) for the 3 fitted parameters.
   plane.centre = centre;
   plane.axis1 = eig.eigenvectors().col(1);
   plane.axis2 = eig.eigenvectors().col(2);
-  double s1 = 0, s2 = 0, h1 = 0, h2 = 0;
+  plane.inliers = points.size();
+  plane.ok = true;
+  return plane;
+}
+
+// The fitted plane's RMS residual and uncertainty, from the residuals themselves
+// (heteroscedasticity-consistent, White's sandwich): the points are not equally noisy (a pixel's
+// point may be the mean of several returns, and a rosette is densest at its centre), so the far,
+// sparse points that fix the slope must count with their own scatter. Scaled by n / (n - 3) for
+// the 3 fitted parameters.
+void add_plane_uncertainty(const std::vector<Vec3>& points, Plane& plane) {
+  if (!plane.ok) return;
+  const double n = static_cast<double>(points.size());
+  double sum_sq = 0, s1 = 0, s2 = 0, h1 = 0, h2 = 0;
   for (const Vec3& p : points) {
-    const double r2 = std::pow(plane.normal.dot(p) - plane.d, 2);
-    const double x1 = (p - centre).dot(plane.axis1), x2 = (p - centre).dot(plane.axis2);
+    const double r = plane.normal.dot(p) - plane.d;
+    const double r2 = r * r;
+    const Vec3 q = p - plane.centre;
+    const double x1 = q.dot(plane.axis1), x2 = q.dot(plane.axis2);
+    sum_sq += r2;
     s1 += x1 * x1;
     s2 += x2 * x2;
     h1 += x1 * x1 * r2;
     h2 += x2 * x2 * r2;
   }
+  plane.rms = std::sqrt(sum_sq / n);
   const double dof_scale = points.size() > 3 ? n / (n - 3) : 0;
   plane.offset_variance = dof_scale * sum_sq / (n * n);
   plane.slope_variance = Eigen::Vector2d(dof_scale * h1 / (s1 * s1), dof_scale * h2 / (s2 * s2));
-  return plane;
 }
 
 std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point origin) {
@@ -128,13 +146,13 @@ namespace {
 // Leaves the final inliers in `points`.
 Plane robust_plane(std::vector<Vec3>& points, const PlaneFitOptions& options, double* band_out) {
   Plane plane = fit_plane(points);
-  std::vector<Vec3> inliers;
-  std::vector<double> residuals;
+  thread_local std::vector<Vec3> inliers;  // reused from marker to marker
+  thread_local std::vector<double> residuals, sorted;
   double band = options.min_inlier_band_m;
   for (int it = 0; it < options.iterations && plane.ok; ++it) {
     residuals.clear();
     for (const Vec3& p : points) residuals.push_back(std::abs(plane.normal.dot(p) - plane.d));
-    std::vector<double> sorted = residuals;
+    sorted.assign(residuals.begin(), residuals.end());
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     band = std::max(options.min_inlier_band_m, 3 * 1.4826 * sorted[sorted.size() / 2]);
     inliers.clear();
@@ -144,6 +162,7 @@ Plane robust_plane(std::vector<Vec3>& points, const PlaneFitOptions& options, do
     plane = fit_plane(inliers);
     points.swap(inliers);
   }
+  add_plane_uncertainty(points, plane);
   if (band_out) *band_out = band;
   return plane;
 }
