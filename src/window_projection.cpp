@@ -83,7 +83,8 @@ void WindowProjector::rebuild(const FrameWindow& window, ProjectedImage& out) {
 }
 
 void WindowProjector::project(const FrameWindow& window, ProjectedImage& out) {
-  const bool next_push = pushes_seen_ > 0 && window.pushes() == pushes_seen_ + 1;
+  const bool next_push =
+      &window == window_seen_ && pushes_seen_ > 0 && window.pushes() == pushes_seen_ + 1;
   if (!next_push || out.stamp != stamp_ || out.stamp == 0) {
     rebuild(window, out);
   } else {
@@ -105,6 +106,7 @@ void WindowProjector::project(const FrameWindow& window, ProjectedImage& out) {
   }
   out.row_source = "uniform";
   out.points_projected = points_inside_;
+  window_seen_ = &window;
   pushes_seen_ = window.pushes();
   out.stamp = stamp_ = next_projection_stamp();
 }

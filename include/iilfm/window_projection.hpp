@@ -21,8 +21,9 @@ class WindowProjector {
   static bool supports(const ProjectionOptions& options);
   explicit WindowProjector(ProjectionOptions options);  // InputError when !supports(options)
 
-  // Brings `out` up to date with `window`: incrementally when the window moved by one push since
-  // the last call and `out` still holds this projector's output, otherwise from scratch. Points
+  // Brings `out` up to date with `window`: incrementally when it is the window of the last call,
+  // moved by one push since, and `out` still holds this projector's output; otherwise from
+  // scratch. Points
   // outside the field of view are left out (points_outside counts them).
   void project(const FrameWindow& window, ProjectedImage& out);
   std::size_t points_outside() const { return points_outside_; }
@@ -45,6 +46,7 @@ class WindowProjector {
   std::vector<PixelSums> sums_;
   std::vector<float> azimuth_, elevation_, range_, offset_;
   std::vector<std::int32_t> pixel_, touched_;
+  const FrameWindow* window_seen_ = nullptr;  // the window the sums follow
   std::uint64_t pushes_seen_ = 0, stamp_ = 0;
   std::size_t points_outside_ = 0, points_inside_ = 0;
 };

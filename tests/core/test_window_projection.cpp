@@ -113,6 +113,22 @@ TEST(WindowProjector, RebuildsWhenItMissedAPushOrTheImageWasOverwritten) {
   expect_same_image(inc_image, full_image, "after the image was overwritten");
 }
 
+TEST(WindowProjector, AnotherWindowIsProjectedFromScratch) {
+  const ProjectionOptions options = mid40_projection();
+  WindowProjector incremental(options);
+  SphericalProjector whole(options);
+  FrameWindow first(2), second(2);
+  ProjectedImage inc_image, full_image;
+  const std::vector<PointCloud> all = frames(6);
+  first.push(all[0], {});
+  incremental.project(first, inc_image);
+  second.push(all[3], {});
+  second.push(all[4], {});  // second.pushes() == first.pushes() + 1: only its identity differs
+  incremental.project(second, inc_image);
+  whole.project(second.view(), full_image);
+  expect_same_image(inc_image, full_image, "second window");
+}
+
 TEST(WindowProjector, SpinningPresetsAreNotSupported) {
   PipelineOptions options;
   apply_sensor_preset(find_sensor_preset("vlp16"), options);
