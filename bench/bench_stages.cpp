@@ -170,10 +170,4 @@ void register_all() {
 }  // namespace
 }  // namespace iilfm
 
-int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  iilfm::register_all();
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return iilfm::bench::run(argc, argv, iilfm::register_all); }

@@ -29,4 +29,12 @@ void report_points(benchmark::State& state, std::size_t points) {
                                                   benchmark::Counter::kIsRate);
 }
 
+int run(int argc, char** argv, void (*register_benchmarks)()) {
+  benchmark::Initialize(&argc, argv);
+  register_benchmarks();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
 }  // namespace iilfm::bench

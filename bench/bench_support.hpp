@@ -19,4 +19,7 @@ const ProjectedImage& projected(const std::string& name);  // the scan projected
 
 void report_points(benchmark::State& state, std::size_t points);
 
+// A benchmark program's main: registers its benchmarks at run time (they are made per scan).
+int run(int argc, char** argv, void (*register_benchmarks)());
+
 }  // namespace iilfm::bench
