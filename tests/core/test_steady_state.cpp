@@ -20,14 +20,35 @@ std::atomic<long> g_new_calls{0};
 }  // namespace
 
 // Counts every operator new in this test program (the library's std containers allocate through
-// it); the test reads the count around the calls it checks.
-void* operator new(std::size_t size) {
+// it); the test reads the count around the calls it checks. Every plain and nothrow form is
+// replaced, so each allocation is released by its own kind (AddressSanitizer checks the pairing).
+namespace {
+void* counted_allocation(std::size_t size) {
   ++g_new_calls;
-  if (void* p = std::malloc(size ? size : 1)) return p;
+  return std::malloc(size ? size : 1);
+}
+}  // namespace
+
+void* operator new(std::size_t size) {
+  if (void* p = counted_allocation(size)) return p;
   throw std::bad_alloc();
 }
+void* operator new[](std::size_t size) {
+  if (void* p = counted_allocation(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  return counted_allocation(size);
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  return counted_allocation(size);
+}
 void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace iilfm {
 namespace {
