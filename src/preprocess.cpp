@@ -44,7 +44,7 @@ void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbour
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
     float* __restrict out = filled.ptr<float>(r);
     std::uint8_t* __restrict out_mask = filled_mask.ptr<std::uint8_t>(r);
-    // Arithmetic blends instead of branches (masks hold 0 or 255), so the loop vectorises.
+    // Float selects instead of branches (masks hold 0 or 255), so the loop vectorises.
     const float* __restrict vl = value_sum.data();  // vl[c] = vs[c - 1]
     const float* __restrict cl = count_sum.data();
     for (int c = 0; c < cols; ++c) {
@@ -53,7 +53,9 @@ void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbour
       const float fillable = count >= needed ? 1.0f : 0.0f;
       const float mean = sum / (count > 1.0f ? count : 1.0f);
       const float observed = static_cast<float>(m[c]) * (1.0f / 255.0f);
-      out[c] = observed * v[c] + (1.0f - observed) * fillable * mean;
+      // Selects, not a blend: 0 * an infinite mean would be NaN.
+      const float fill = fillable > 0.0f ? mean : 0.0f;
+      out[c] = observed > 0.0f ? v[c] : fill;
       out_mask[c] = static_cast<std::uint8_t>(255.0f * std::max(observed, fillable));
     }
   }
@@ -155,8 +157,10 @@ void to_gray(const cv::Mat& filled, const cv::Mat& valid, double scale, int unob
     const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
     std::uint8_t* __restrict g = gray.ptr<std::uint8_t>(r);
     for (int c = 0; c < cols; ++c) {
-      const float level = std::min(std::max(v[c] * factor + 0.5f, 0.0f), 255.0f);
-      const std::uint8_t value = static_cast<std::uint8_t>(level);
+      // Comparisons, not min/max: a NaN (an overflowed sum) becomes 0, never an undefined cast.
+      const float level = v[c] * factor + 0.5f;
+      const float clamped = level > 0.0f ? (level < 255.0f ? level : 255.0f) : 0.0f;
+      const std::uint8_t value = static_cast<std::uint8_t>(clamped);
       g[c] = static_cast<std::uint8_t>((value & m[c]) | (hole & ~m[c]));  // masks hold 0 or 255
     }
   }
