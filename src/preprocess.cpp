@@ -15,7 +15,8 @@ namespace {
 // Mean of the observed 8-neighbours for unobserved pixels with at least `min_neighbours` of them.
 // Only the detector sees these values: no 3-D point is ever made from a filled pixel. One pass
 // over the rows: 3-row column sums of the observed values and of the observed count, then their
-// 3-column sums; both loops are branch-free and vectorise.
+// 3-column sums. The column sums vectorise; the per-pixel loop selects (no blend: 0 x an infinite
+// mean would be NaN) and GCC leaves it scalar.
 void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours, cv::Mat& filled,
                 cv::Mat& filled_mask) {
   const int rows = intensity.rows, cols = intensity.cols;
@@ -44,7 +45,7 @@ void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbour
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
     float* __restrict out = filled.ptr<float>(r);
     std::uint8_t* __restrict out_mask = filled_mask.ptr<std::uint8_t>(r);
-    // Float selects instead of branches (masks hold 0 or 255), so the loop vectorises.
+    // Selects on float conditions (masks hold 0 or 255).
     const float* __restrict vl = value_sum.data();  // vl[c] = vs[c - 1]
     const float* __restrict cl = count_sum.data();
     for (int c = 0; c < cols; ++c) {
