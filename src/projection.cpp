@@ -83,6 +83,16 @@ ImageGeometry geometry_for_bounds(const AngularBounds& bounds, double res_h, dou
   return g;
 }
 
+void require_image_within(const ImageGeometry& g, std::size_t max_pixels) {
+  const double pixels = static_cast<double>(g.width) * g.height;
+  if (pixels > static_cast<double>(max_pixels)) {
+    throw InputError("intensity image would be " + std::to_string(g.width) + "x" +
+                     std::to_string(g.height) + " pixels, over the limit of " +
+                     std::to_string(max_pixels) +
+                     "; check --res-h/--res-v (degrees) or the sensor preset");
+  }
+}
+
 SphericalProjector::SphericalProjector(ProjectionOptions options) : options_(std::move(options)) {
   if (!(options_.res_h_deg > 0) || !(options_.res_v_deg > 0) ||
       !std::isfinite(options_.res_h_deg) || !std::isfinite(options_.res_v_deg)) {
@@ -150,13 +160,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
       g.res_v = rings->rows() > 1 ? rings->mean_spacing() : res_v;
       g.v0 = 0;
     }
-    const double pixels = static_cast<double>(g.width) * g.height;
-    if (pixels > static_cast<double>(options_.max_pixels)) {
-      throw InputError("intensity image would be " + std::to_string(g.width) + "x" +
-                       std::to_string(g.height) + " pixels, over the limit of " +
-                       std::to_string(options_.max_pixels) +
-                       "; check --res-h/--res-v (degrees) or the sensor preset");
-    }
+    require_image_within(g, options_.max_pixels);
     return g;
   };
   auto extent = [&] { return extent_of(azimuth_.data(), elevation_.data(), range_.data(), n); };

@@ -14,17 +14,11 @@ bool WindowProjector::supports(const ProjectionOptions& options) {
 WindowProjector::WindowProjector(ProjectionOptions options) : options_(std::move(options)) {
   if (!supports(options_))
     throw InputError("sliding-window projection needs a field of view and uniform rows");
-  // SphericalProjector checks the resolution and the image size for the same options.
-  SphericalProjector check(options_);
+  SphericalProjector check(options_);  // InputError for a bad resolution, as for one-shot frames
   constexpr double kDegToRad = M_PI / 180.0;
   geometry_ = geometry_for_bounds(*options_.field_of_view, options_.res_h_deg * kDegToRad,
                                   options_.res_v_deg * kDegToRad);
-  const double pixels = static_cast<double>(geometry_.width) * geometry_.height;
-  if (pixels > static_cast<double>(options_.max_pixels))
-    throw InputError("intensity image would be " + std::to_string(geometry_.width) + "x" +
-                     std::to_string(geometry_.height) + " pixels, over the limit of " +
-                     std::to_string(options_.max_pixels) +
-                     "; check --res-h/--res-v (degrees) or the sensor preset");
+  require_image_within(geometry_, options_.max_pixels);
 }
 
 void WindowProjector::accumulate(const PointView& points, std::uint64_t first_id, int sign) {

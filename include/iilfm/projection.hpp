@@ -106,6 +106,9 @@ AngularBounds angular_extent(const PointCloud& cloud);
 // Image geometry covering `bounds` at the given resolution.
 ImageGeometry geometry_for_bounds(const AngularBounds& bounds, double res_h, double res_v);
 
+// InputError naming the size and the limit when `g` has more than `max_pixels` pixels.
+void require_image_within(const ImageGeometry& g, std::size_t max_pixels);
+
 // Projects clouds, reusing its buffers from frame to frame.
 class SphericalProjector {
  public:
