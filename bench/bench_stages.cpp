@@ -79,6 +79,21 @@ void BM_Pipeline(benchmark::State& state, const std::string& name) {
   bench::report_points(state, s.scan.scan.cloud.size());
 }
 
+// The plane fit alone (the lift's main cost), for every marker the pipeline found, on the
+// pipeline's own projected image: CPU time per scan, unlike LiftAndPose's wall time.
+void BM_PlaneFit(benchmark::State& state, const std::string& name) {
+  const bench::Scan& s = scan(name);
+  Pipeline pipeline(s.options);
+  const FrameResult& r = pipeline.process(s.scan.scan.cloud);
+  std::vector<std::vector<Vec2>> outlines;
+  for (const MarkerResult& m : r.markers) outlines.push_back(keypoint_outline(m.detection));
+  for (auto _ : state)
+    for (const std::vector<Vec2>& outline : outlines)
+      benchmark::DoNotOptimize(
+          fit_marker_plane(outline, r.image, s.scan.scan.cloud, s.options.plane_fit).inliers);
+  state.counters["markers"] = static_cast<double>(outlines.size());
+}
+
 // Lift and pose: the pipeline minus its first three stages, timed by the pipeline itself.
 void BM_LiftAndPose(benchmark::State& state, const std::string& name) {
   const bench::Scan& s = scan(name);
@@ -155,6 +170,8 @@ void register_all() {
         ->ArgName("threads")
         ->Arg(1)
         ->Arg(2)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("PlaneFit/" + name).c_str(), BM_PlaneFit, name)
         ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("LiftAndPose/" + name).c_str(), BM_LiftAndPose, name)
         ->UseManualTime()

@@ -1,7 +1,10 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "iilfm/lift.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -10,51 +13,66 @@ namespace iilfm {
 
 namespace {
 
-// Least-squares plane through points (smallest principal axis of their scatter), without its
-// uncertainty (add_plane_uncertainty): the robust fit's intermediate planes do not need it.
-Plane fit_plane(const std::vector<Vec3>& points) {
-  Plane plane;
-  if (points.size() < 3) return plane;
-  Vec3 centre = Vec3::Zero();
-  for (const Vec3& p : points) centre += p;
-  centre /= static_cast<double>(points.size());
-  // The six distinct entries of the scatter matrix, one pass.
-  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
-  for (const Vec3& p : points) {
-    const double x = p.x() - centre.x(), y = p.y() - centre.y(), z = p.z() - centre.z();
-    xx += x * x;
-    xy += x * y;
-    xz += x * z;
-    yy += y * y;
-    yz += y * z;
-    zz += z * z;
+// Sums of a point set's coordinates and of their products, about a reference point near the
+// points (so the one-pass scatter keeps its precision).
+struct Moments {
+  Vec3 ref = Vec3::Zero();
+  double n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+
+  void add(const Vec3& p) {
+    const double a = p.x() - ref.x(), b = p.y() - ref.y(), c = p.z() - ref.z();
+    n += 1;
+    x += a;
+    y += b;
+    z += c;
+    xx += a * a;
+    xy += a * b;
+    xz += a * c;
+    yy += b * b;
+    yz += b * c;
+    zz += c * c;
   }
+};
+
+// Least-squares plane through the points summed in `m` (smallest principal axis of their
+// scatter), without its uncertainty (add_plane_uncertainty): the robust fit's intermediate planes
+// do not need it.
+Plane plane_from_moments(const Moments& m) {
+  Plane plane;
+  if (m.n < 3) return plane;
+  const double mx = m.x / m.n, my = m.y / m.n, mz = m.z / m.n;
   Mat3 scatter;
-  scatter << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  scatter << m.xx - m.n * mx * mx, m.xy - m.n * mx * my, m.xz - m.n * mx * mz,  //
+      m.xy - m.n * mx * my, m.yy - m.n * my * my, m.yz - m.n * my * mz,         //
+      m.xz - m.n * mx * mz, m.yz - m.n * my * mz, m.zz - m.n * mz * mz;
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(scatter);
   // The two larger spreads must be real: a row of points does not define a plane.
   if (!(eig.eigenvalues()(1) > 1e-12)) return plane;
+  const Vec3 centre = m.ref + Vec3(mx, my, mz);
   plane.normal = eig.eigenvectors().col(0);
   if (plane.normal.dot(centre) > 0) plane.normal = -plane.normal;  // face the sensor
   plane.d = plane.normal.dot(centre);
   plane.centre = centre;
   plane.axis1 = eig.eigenvectors().col(1);
   plane.axis2 = eig.eigenvectors().col(2);
-  plane.inliers = points.size();
+  plane.inliers = static_cast<std::size_t>(m.n);
   plane.ok = true;
   return plane;
 }
+
+using Indices = std::vector<std::uint32_t>;
 
 // The fitted plane's RMS residual and uncertainty, from the residuals themselves
 // (heteroscedasticity-consistent, White's sandwich): the points are not equally noisy (a pixel's
 // point may be the mean of several returns, and a rosette is densest at its centre), so the far,
 // sparse points that fix the slope must count with their own scatter. Scaled by n / (n - 3) for
 // the 3 fitted parameters.
-void add_plane_uncertainty(const std::vector<Vec3>& points, Plane& plane) {
+void add_plane_uncertainty(const std::vector<Vec3>& points, const Indices& used, Plane& plane) {
   if (!plane.ok) return;
-  const double n = static_cast<double>(points.size());
+  const double n = static_cast<double>(used.size());
   double sum_sq = 0, s1 = 0, s2 = 0, h1 = 0, h2 = 0;
-  for (const Vec3& p : points) {
+  for (std::uint32_t i : used) {
+    const Vec3& p = points[i];
     const double r = plane.normal.dot(p) - plane.d;
     const double r2 = r * r;
     const Vec3 q = p - plane.centre;
@@ -66,9 +84,23 @@ void add_plane_uncertainty(const std::vector<Vec3>& points, Plane& plane) {
     h2 += x2 * x2 * r2;
   }
   plane.rms = std::sqrt(sum_sq / n);
-  const double dof_scale = points.size() > 3 ? n / (n - 3) : 0;
+  const double dof_scale = used.size() > 3 ? n / (n - 3) : 0;
   plane.offset_variance = dof_scale * sum_sq / (n * n);
   plane.slope_variance = Eigen::Vector2d(dof_scale * h1 / (s1 * s1), dof_scale * h2 / (s2 * s2));
+}
+
+// Median of `values`: exact up to 16384 values (a marker's own points), above that the median of
+// an evenly strided sample of 4096 (about 2 % standard error). It only sets a 3-sigma band, and an
+// exact selection over a coplanar wall's ~10^5 points cost more than the fit. The marker's own band
+// stays exact: it decides whether the surround is coplanar, a share compared with a threshold.
+double median_of(const std::vector<double>& values) {
+  constexpr std::size_t kExact = 16384, kSample = 4096;
+  thread_local std::vector<double> sample;
+  const std::size_t stride = values.size() > kExact ? values.size() / kSample : 1;
+  sample.clear();
+  for (std::size_t k = 0; k < values.size(); k += stride) sample.push_back(values[k]);
+  std::nth_element(sample.begin(), sample.begin() + sample.size() / 2, sample.end());
+  return sample[sample.size() / 2];
 }
 
 std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point origin) {
@@ -96,73 +128,126 @@ PolygonFrame polygon_frame(const ImageGeometry& g) {
   return frame;
 }
 
-// Points of the observed pixels inside `polygon` but not inside `excluded` (may be empty); both
-// in the frame's uniform coordinates.
-std::vector<Vec3> points_inside(const std::vector<Vec2>& polygon, const ProjectedImage& image,
-                                const PointView& cloud, const PolygonFrame& frame,
-                                const std::vector<Vec2>& excluded = {}) {
+// The points of the observed pixels inside nested polygons (in the frame's uniform coordinates),
+// gathered in one pass, each labelled with the innermost polygon holding it: label k + 1 for
+// `nested[k]`, outermost first. A pixel holding one point contributes that point, one holding
+// several its mean range along the pixel-centre ray.
+struct LabelledPoints {
   std::vector<Vec3> points;
-  if (polygon.size() < 3) return points;
+  std::vector<std::uint8_t> label;
+};
+
+void gather_points(const std::vector<std::vector<Vec2>>& nested, const ProjectedImage& image,
+                   const PointView& cloud, const PolygonFrame& frame, LabelledPoints& out) {
+  out.points.clear();
+  out.label.clear();
   const ImageGeometry& g = image.geometry;
   double min_u = 1e18, max_u = -1e18, min_v = 1e18, max_v = -1e18;
-  for (const Vec2& p : polygon) {
-    if (!p.allFinite()) return points;
-    min_u = std::min(min_u, p.x());
-    max_u = std::max(max_u, p.x());
-    min_v = std::min(min_v, p.y());
-    max_v = std::max(max_v, p.y());
+  for (const std::vector<Vec2>& polygon : nested) {
+    if (polygon.size() < 3) return;
+    for (const Vec2& p : polygon) {
+      if (!p.allFinite()) return;
+      min_u = std::min(min_u, p.x());
+      max_u = std::max(max_u, p.x());
+      min_v = std::min(min_v, p.y());
+      max_v = std::max(max_v, p.y());
+    }
   }
+  if (nested.empty()) return;
   const int c0 = std::max(0, static_cast<int>(std::floor(min_u)));
   const int c1 = std::min(g.width - 1, static_cast<int>(std::ceil(max_u)));
   const int v0 = static_cast<int>(std::floor(min_v)), v1 = static_cast<int>(std::ceil(max_v));
-  if (c0 > c1 || v0 > v1) return points;
+  if (c0 > c1 || v0 > v1) return;
 
-  // Rasterise the polygon into a mask over its bounding box.
-  cv::Mat inside(v1 - v0 + 1, c1 - c0 + 1, CV_8U, cv::Scalar(0));
-  cv::fillConvexPoly(inside, rounded(polygon, cv::Point(c0, v0)), cv::Scalar(255));
-  if (excluded.size() >= 3)
-    cv::fillConvexPoly(inside, rounded(excluded, cv::Point(c0, v0)), cv::Scalar(0));
+  // Rasterise the polygons, outermost first, into one label mask over their bounding box.
+  thread_local cv::Mat labels;
+  labels.create(v1 - v0 + 1, c1 - c0 + 1, CV_8U);
+  labels.setTo(cv::Scalar(0));
+  for (std::size_t k = 0; k < nested.size(); ++k)
+    cv::fillConvexPoly(labels, rounded(nested[k], cv::Point(c0, v0)),
+                       cv::Scalar(static_cast<double>(k + 1)));
+
+  // Pixel-centre ray components per column, computed once (ImageGeometry::ray's formula).
+  thread_local std::vector<double> cos_az, sin_az;
+  cos_az.resize(static_cast<std::size_t>(c1 - c0 + 1));
+  sin_az.resize(cos_az.size());
+  for (int c = c0; c <= c1; ++c) {
+    const double azimuth = g.azimuth_of_u(c);
+    cos_az[static_cast<std::size_t>(c - c0)] = std::cos(azimuth);
+    sin_az[static_cast<std::size_t>(c - c0)] = std::sin(azimuth);
+  }
+  thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
+  single.clear();
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
     if (v < v0 || v > v1) continue;
-    const std::uint8_t* in = inside.ptr<std::uint8_t>(v - v0);
+    const std::uint8_t* in = labels.ptr<std::uint8_t>(v - v0);
+    const std::uint8_t* seen = image.mask.ptr<std::uint8_t>(r);
+    const std::int32_t* count = image.count.ptr<std::int32_t>(r);
+    const std::int32_t* index = image.index.ptr<std::int32_t>(r);
+    const float* range = image.range.ptr<float>(r);
+    const double elevation = g.elevation_of_v(r);
+    const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
     for (int c = c0; c <= c1; ++c) {
-      if (!in[c - c0] || !image.observed(c, r)) continue;
-      if (image.count.at<std::int32_t>(r, c) == 1) {
-        points.push_back(cloud.point(static_cast<std::size_t>(image.index.at<std::int32_t>(r, c))));
+      const std::uint8_t label = in[c - c0];
+      if (!label || !seen[c]) continue;
+      if (count[c] == 1) {
+        single.emplace_back(static_cast<std::uint32_t>(out.points.size()),
+                            static_cast<std::uint32_t>(index[c]));
+        out.points.emplace_back();
       } else {
-        points.push_back(pixel_point(image, c, r));
+        const std::size_t k = static_cast<std::size_t>(c - c0);
+        out.points.push_back(Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el) *
+                             static_cast<double>(range[c]));
       }
+      out.label.push_back(label);
     }
   }
-  return points;
+  // The single-point pixels' points, read from the cloud in a second pass with prefetching: the
+  // points of neighbouring pixels lie anywhere in the cloud (a rosette revisits a spot every few
+  // frames), and waiting for each miss in turn cost more than the whole fit.
+  constexpr std::size_t kAhead = 16;
+  for (std::size_t k = 0; k < single.size(); ++k) {
+    if (k + kAhead < single.size()) {
+      const std::size_t ahead = single[k + kAhead].second;
+      __builtin_prefetch(cloud.x.data + static_cast<std::ptrdiff_t>(ahead) * cloud.x.stride);
+      __builtin_prefetch(cloud.y.data + static_cast<std::ptrdiff_t>(ahead) * cloud.y.stride);
+      __builtin_prefetch(cloud.z.data + static_cast<std::ptrdiff_t>(ahead) * cloud.z.stride);
+    }
+    out.points[single[k].first] = cloud.point(single[k].second);
+  }
 }
 
-}  // namespace
-
-namespace {
-
-// Least squares, then refits without points farther than max(min band, 3 robust sigmas).
-// Leaves the final inliers in `points`.
-Plane robust_plane(std::vector<Vec3>& points, const PlaneFitOptions& options, double* band_out) {
-  Plane plane = fit_plane(points);
-  thread_local std::vector<Vec3> inliers;  // reused from marker to marker
-  thread_local std::vector<double> residuals, sorted;
+// Least squares over points[used], then refits without points farther than max(min band, 3
+// robust sigmas). Leaves the final inliers in `used`.
+Plane robust_plane(const std::vector<Vec3>& points, Indices& used, const PlaneFitOptions& options,
+                   double* band_out) {
+  if (used.empty()) return Plane{};
+  Moments all;
+  all.ref = points[used.front()];
+  for (std::uint32_t i : used) all.add(points[i]);
+  Plane plane = plane_from_moments(all);
+  thread_local std::vector<double> residuals;
+  thread_local Indices kept;
   double band = options.min_inlier_band_m;
   for (int it = 0; it < options.iterations && plane.ok; ++it) {
     residuals.clear();
-    for (const Vec3& p : points) residuals.push_back(std::abs(plane.normal.dot(p) - plane.d));
-    sorted.assign(residuals.begin(), residuals.end());
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    band = std::max(options.min_inlier_band_m, 3 * 1.4826 * sorted[sorted.size() / 2]);
-    inliers.clear();
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (residuals[i] <= band) inliers.push_back(points[i]);
-    if (inliers.size() < options.min_points || inliers.size() == points.size()) break;
-    plane = fit_plane(inliers);
-    points.swap(inliers);
+    for (std::uint32_t i : used)
+      residuals.push_back(std::abs(plane.normal.dot(points[i]) - plane.d));
+    band = std::max(options.min_inlier_band_m, 3 * 1.4826 * median_of(residuals));
+    Moments moments;
+    moments.ref = plane.centre;
+    kept.clear();
+    for (std::size_t k = 0; k < used.size(); ++k)
+      if (residuals[k] <= band) {
+        moments.add(points[used[k]]);
+        kept.push_back(used[k]);
+      }
+    if (kept.size() < options.min_points || kept.size() == used.size()) break;
+    used.swap(kept);
+    plane = plane_from_moments(moments);
   }
-  add_plane_uncertainty(points, plane);
+  add_plane_uncertainty(points, used, plane);
   if (band_out) *band_out = band;
   return plane;
 }
@@ -182,49 +267,71 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   const PolygonFrame frame = polygon_frame(image.geometry);
   std::vector<Vec2> polygon;
   for (const Vec2& px : polygon_px) polygon.push_back(map_pixel(px, image.geometry, frame.uniform));
-  std::vector<Vec3> marker_points = points_inside(polygon, image, cloud, frame);
-  if (marker_points.size() < options.min_points) return Plane{};
+
+  // Surrounds largest first, then the marker: the marker's points get the last label.
+  std::vector<double> scales;
+  for (double s : options.surround_scales)
+    if (s > 1) scales.push_back(s);
+  std::sort(scales.begin(), scales.end(), std::greater<double>());
+  std::vector<std::vector<Vec2>> nested;
+  for (double s : scales) nested.push_back(scaled_about_centre(polygon, s));
+  nested.push_back(polygon);
+  const std::uint8_t marker_label = static_cast<std::uint8_t>(nested.size());
+  thread_local LabelledPoints gathered;
+  gather_points(nested, image, cloud, frame, gathered);
+  const std::vector<Vec3>& points = gathered.points;
+
+  thread_local Indices marker, ring, all;
+  marker.clear();
+  for (std::uint32_t i = 0; i < points.size(); ++i)
+    if (gathered.label[i] == marker_label) marker.push_back(i);
+  if (marker.size() < options.min_points) return Plane{};
   double band = 0;
-  Plane plane = robust_plane(marker_points, options, &band);
+  Plane plane = robust_plane(points, marker, options, &band);
   if (!plane.ok) return plane;
 
   // A printed sheet is flush with what it hangs on: when the surround is coplanar with the marker,
-  // its points pin the normal down far better (more points, longer lever). Largest ring first.
-  for (double scale : options.surround_scales) {
-    std::vector<Vec3> ring =
-        points_inside(scaled_about_centre(polygon, scale), image, cloud, frame, polygon);
-    if (ring.size() < marker_points.size() / 2) continue;
+  // its points pin the normal down far better (more points, longer lever). Largest ring first;
+  // surround k's ring holds the labels k + 1 up to the marker's, exclusive.
+  thread_local std::vector<double> offsets;
+  for (std::size_t k = 0; k < scales.size(); ++k) {
+    ring.clear();
+    for (std::uint32_t i = 0; i < points.size(); ++i)
+      if (gathered.label[i] > k && gathered.label[i] != marker_label) ring.push_back(i);
+    if (ring.size() < marker.size() / 2) continue;
     std::size_t coplanar = 0;
-    for (const Vec3& p : ring) coplanar += std::abs(plane.normal.dot(p) - plane.d) <= band;
+    offsets.clear();
+    for (std::uint32_t i : ring) {
+      const double offset = std::abs(plane.normal.dot(points[i]) - plane.d);
+      coplanar += offset <= band;
+      offsets.push_back(offset);
+    }
     if (coplanar < options.min_coplanar_fraction * static_cast<double>(ring.size())) continue;
     // Coplanar: take the ring's points within 4 of its own robust sigmas. The marker's band is
     // too narrow for the ring when the ring's pixels average fewer returns (a rosette is densest
     // at its centre): cutting the ring's tails about the marker's own, tilted plane pulls the
     // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
-    std::vector<double> offsets;
-    for (const Vec3& p : ring) offsets.push_back(std::abs(plane.normal.dot(p) - plane.d));
-    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
-    const double ring_band = std::max(band, 4 * 1.4826 * offsets[offsets.size() / 2]);
-    std::vector<Vec3> all = marker_points;
-    for (const Vec3& p : ring)
-      if (std::abs(plane.normal.dot(p) - plane.d) <= ring_band) all.push_back(p);
-    Plane wide = robust_plane(all, options, nullptr);
+    const double ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
+    all = marker;
+    for (std::uint32_t i : ring)
+      if (std::abs(plane.normal.dot(points[i]) - plane.d) <= ring_band) all.push_back(i);
+    Plane wide = robust_plane(points, all, options, nullptr);
     if (!wide.ok) continue;
     // The normal from the wide fit; the offset from the marker's own points, so a sheet standing a
     // little proud of its wall (a board, a thick print) keeps its own depth.
     double offset = 0;
     Vec3 centre = Vec3::Zero();
-    for (const Vec3& p : marker_points) {
-      offset += wide.normal.dot(p);
-      centre += p;
+    for (std::uint32_t i : marker) {
+      offset += wide.normal.dot(points[i]);
+      centre += points[i];
     }
-    const double n_marker = static_cast<double>(marker_points.size());
+    const double n_marker = static_cast<double>(marker.size());
     wide.d = offset / n_marker;
-    wide.surround_scale = scale;
+    wide.surround_scale = scales[k];
     // The offset is the marker points' mean (the variance of a mean of their residuals), the
     // slopes the wide fit's, about the marker's centroid.
     double sum_sq = 0;
-    for (const Vec3& p : marker_points) sum_sq += std::pow(wide.normal.dot(p) - wide.d, 2);
+    for (std::uint32_t i : marker) sum_sq += std::pow(wide.normal.dot(points[i]) - wide.d, 2);
     wide.offset_variance = sum_sq / (n_marker * std::max(1.0, n_marker - 1));
     wide.centre = centre / n_marker;
     return wide;
