@@ -18,7 +18,7 @@ std::optional<double> intensity_at(const ProjectedImage& image, const Vec2& uv) 
   double sum = 0, weight = 0;
   for (int dr = 0; dr <= 1; ++dr) {
     for (int dc = 0; dc <= 1; ++dc) {
-      const int c = c0 + dc, r = r0 + dr;
+      const int c = g.wrap_column(c0 + dc), r = r0 + dr;  // across the seam of a full circle
       if (!g.contains_pixel(c, r) || !image.observed(c, r)) continue;
       const double w = (dc ? fu : 1 - fu) * (dr ? fv : 1 - fv);
       sum += w * image.intensity.at<float>(r, c);

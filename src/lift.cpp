@@ -17,12 +17,14 @@ const char* to_string(CornerStatus status) {
 }
 
 Vec3 pixel_point(const ProjectedImage& image, int col, int row) {
+  col = image.geometry.wrap_column(col);
   return image.geometry.ray(col, row) * static_cast<double>(image.range.at<float>(row, col));
 }
 
 namespace {
 
 bool observed_at(const ProjectedImage& image, int col, int row) {
+  col = image.geometry.wrap_column(col);  // a marker across the seam of a full circle
   return image.geometry.contains_pixel(col, row) && image.observed(col, row);
 }
 
@@ -40,8 +42,8 @@ LiftedCorner lift_paper(const Vec2& keypoint_px, const ProjectedImage& image,
   const int col = static_cast<int>(std::lround(keypoint_px.x()));
   const int row = static_cast<int>(std::lround(keypoint_px.y()));
   if (observed_at(image, col, row)) {
-    lifted.point =
-        image.geometry.ray(keypoint_px) * static_cast<double>(image.range.at<float>(row, col));
+    lifted.point = image.geometry.ray(keypoint_px) *
+                   static_cast<double>(image.range.at<float>(row, image.geometry.wrap_column(col)));
     lifted.status = CornerStatus::kObserved;
     return lifted;
   }

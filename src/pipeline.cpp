@@ -10,6 +10,7 @@
 #include "iilfm/pose.hpp"
 #include "iilfm/pose_covariance.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "seam_detection.hpp"
 
 namespace iilfm {
 
@@ -163,6 +164,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
 
   std::vector<Detection> detections;
   for (auto& detector : detectors_) detector->detect(r.preprocessed.detect, detections);
+  detect_across_seam(r.preprocessed.detect, r.preprocessed.geometry, detectors_, detections);
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
   for (Detection& d : detections)
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);

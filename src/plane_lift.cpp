@@ -154,8 +154,10 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     }
   }
   if (nested.empty()) return;
-  const int c0 = std::max(0, static_cast<int>(std::floor(min_u)));
-  const int c1 = std::min(g.width - 1, static_cast<int>(std::ceil(max_u)));
+  // A full-circle image continues past its first and last columns (a marker across the seam).
+  const int reach = g.full_circle() ? g.width / 2 : 0;
+  const int c0 = std::max(-reach, static_cast<int>(std::floor(min_u)));
+  const int c1 = std::min(g.width - 1 + reach, static_cast<int>(std::ceil(max_u)));
   const int v0 = static_cast<int>(std::floor(min_v)), v1 = static_cast<int>(std::ceil(max_v));
   if (c0 > c1 || v0 > v1) return;
 
@@ -167,14 +169,20 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     cv::fillConvexPoly(labels, rounded(nested[k], cv::Point(c0, v0)),
                        cv::Scalar(static_cast<double>(k + 1)));
 
-  // Pixel-centre ray components per column, computed once (ImageGeometry::ray's formula).
+  // Per column of the box: the image column (-1: none) and its pixel-centre ray components,
+  // computed once (ImageGeometry::ray's formula).
+  thread_local std::vector<int> column;
   thread_local std::vector<double> cos_az, sin_az;
-  cos_az.resize(static_cast<std::size_t>(c1 - c0 + 1));
-  sin_az.resize(cos_az.size());
+  column.resize(static_cast<std::size_t>(c1 - c0 + 1));
+  cos_az.resize(column.size());
+  sin_az.resize(column.size());
   for (int c = c0; c <= c1; ++c) {
-    const double azimuth = g.azimuth_of_u(c);
-    cos_az[static_cast<std::size_t>(c - c0)] = std::cos(azimuth);
-    sin_az[static_cast<std::size_t>(c - c0)] = std::sin(azimuth);
+    const std::size_t k = static_cast<std::size_t>(c - c0);
+    const int wrapped = g.wrap_column(c);
+    column[k] = wrapped >= 0 && wrapped < g.width ? wrapped : -1;
+    const double azimuth = g.azimuth_of_u(wrapped);
+    cos_az[k] = std::cos(azimuth);
+    sin_az[k] = std::sin(azimuth);
   }
   thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
   single.clear();
@@ -188,15 +196,15 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     const float* range = image.range.ptr<float>(r);
     const double elevation = g.elevation_of_v(r);
     const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
-    for (int c = c0; c <= c1; ++c) {
-      const std::uint8_t label = in[c - c0];
-      if (!label || !seen[c]) continue;
+    for (std::size_t k = 0; k < column.size(); ++k) {
+      const std::uint8_t label = in[k];
+      const int c = column[k];
+      if (!label || c < 0 || !seen[c]) continue;
       if (count[c] == 1) {
         single.emplace_back(static_cast<std::uint32_t>(out.points.size()),
                             static_cast<std::uint32_t>(index[c]));
         out.points.emplace_back();
       } else {
-        const std::size_t k = static_cast<std::size_t>(c - c0);
         out.points.push_back(Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el) *
                              static_cast<double>(range[c]));
       }
@@ -350,7 +358,7 @@ LiftedCorner lift_on_plane(const Vec2& keypoint_px, const ProjectedImage& image,
   const double t = plane.d / along;
   if (!(t > 0)) return lifted;
   lifted.point = ray * t;
-  const int col = static_cast<int>(std::lround(keypoint_px.x()));
+  const int col = image.geometry.wrap_column(static_cast<int>(std::lround(keypoint_px.x())));
   const int row = static_cast<int>(std::lround(keypoint_px.y()));
   const bool observed = image.geometry.contains_pixel(col, row) && image.observed(col, row);
   lifted.status = observed ? CornerStatus::kObserved : CornerStatus::kInterpolated;

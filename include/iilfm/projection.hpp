@@ -6,6 +6,7 @@
 // at the continuous coordinates (u, v) = (col, row), the OpenCV convention.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -43,6 +44,18 @@ struct ImageGeometry {
   Vec3 ray(const Vec2& uv) const { return ray(uv.x(), uv.y()); }
   bool contains_pixel(int col, int row) const {
     return col >= 0 && row >= 0 && col < width && row < height;
+  }
+  // Columns of one full turn of azimuth (not always a whole number: 360 / 0.352 = 1022.7).
+  double columns_per_turn() const { return 2 * M_PI / res_h; }
+  // True when the columns cover every azimuth: then a column past the last one (or before the
+  // first) continues the image on the other side of the azimuth seam.
+  bool full_circle() const { return res_h > 0 && width >= columns_per_turn() - 0.5; }
+  // The image column whose direction is nearest that of column `col`, which may lie one turn
+  // off the image in a full-circle image; `col` itself otherwise.
+  int wrap_column(int col) const {
+    if (!full_circle() || (col >= 0 && col < width)) return col;
+    const int turn = static_cast<int>(std::lround(columns_per_turn()));
+    return col < 0 ? col + turn : col - turn;
   }
 
  private:

@@ -1,0 +1,39 @@
+#include "seam_detection.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace iilfm {
+
+void detect_across_seam(const cv::Mat& image, const ImageGeometry& geometry,
+                        const std::vector<std::unique_ptr<MarkerDetector>>& detectors,
+                        std::vector<Detection>& out) {
+  if (!geometry.full_circle() || image.cols != geometry.width || image.cols < 16) return;
+  const int width = image.cols;
+  const double turn = geometry.columns_per_turn();
+  // The first column that continues the last one: the image may hold one column twice (+-180
+  // degrees both present) or, for a turn of a fractional number of columns, overlap by a part.
+  const int start = std::clamp(static_cast<int>(std::lround(width - turn)), 0, width / 4);
+  const int half = std::max(8, width / 8);
+  thread_local cv::Mat strip;
+  cv::hconcat(image.colRange(width - half, width), image.colRange(start, start + half), strip);
+
+  // Strip coordinate x to the image's continuous column: the left half is the image's end, the
+  // right half its start one turn on (column c points where column c + turn does).
+  const auto image_u = [&](double x) {
+    return x < half - 0.5 ? width - half + x : x - half + start + turn;
+  };
+  std::vector<Detection> found;
+  for (const auto& detector : detectors) detector->detect(strip, found);
+  for (Detection& d : found) {
+    const bool left = std::any_of(d.corners_px.begin(), d.corners_px.end(),
+                                  [&](const Vec2& p) { return p.x() < half - 0.5; });
+    const bool right = std::any_of(d.corners_px.begin(), d.corners_px.end(),
+                                   [&](const Vec2& p) { return p.x() >= half - 0.5; });
+    if (!left || !right) continue;  // wholly on one side: the image itself holds it whole
+    for (Vec2& p : d.corners_px) p.x() = image_u(p.x());
+    out.push_back(std::move(d));
+  }
+}
+
+}  // namespace iilfm
