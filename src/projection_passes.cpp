@@ -1,0 +1,46 @@
+#include "projection_passes.hpp"
+
+namespace iilfm::detail {
+
+namespace {
+struct Contiguous {
+  const float* __restrict data;
+  float operator[](std::size_t i) const { return data[i]; }
+};
+}  // namespace
+
+// Cloned for AVX2 (picked at load time where the CPU has it): twice the lanes of the SSE2
+// baseline. AVX2 alone, without FMA, so no multiply-add is fused and both clones round alike.
+__attribute__((target_clones("avx2", "default"))) void spherical_coordinates_contiguous(
+    const float* x, const float* y, const float* z, std::size_t n, float* azimuth, float* elevation,
+    float* range) {
+  spherical_coordinates(Contiguous{x}, Contiguous{y}, Contiguous{z}, n, azimuth, elevation, range);
+}
+
+__attribute__((target_clones("avx2", "default"))) std::size_t pixels_of_points(
+    const ImageGeometry& g, const float* __restrict azimuth, const float* __restrict elevation,
+    const float* __restrict range, std::size_t n, std::int32_t* __restrict pixel,
+    float* __restrict offset) {
+  const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
+  const float inv_res_h = static_cast<float>(1 / g.res_h),
+              inv_res_v = static_cast<float>(1 / g.res_v);
+  const float u_end = static_cast<float>(g.width) - 0.5f,
+              v_end = static_cast<float>(g.height) - 0.5f;
+  const std::int32_t width = g.width;
+  std::size_t outside = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float u = u0 - azimuth[i] * inv_res_h, v = v0 - elevation[i] * inv_res_v;
+    // Bitwise, not short-circuit: no branch in the loop.
+    const bool in = (range[i] > 0) & (u >= -0.5f) & (v >= -0.5f) & (u < u_end) & (v < v_end);
+    // Inside, both are >= -0.5, so truncating x + 0.5 rounds to nearest without a libm call.
+    const float uc = in ? u + 0.5f : 0.5f, vc = in ? v + 0.5f : 0.5f;
+    const std::int32_t col = static_cast<std::int32_t>(uc), row = static_cast<std::int32_t>(vc);
+    const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
+    pixel[i] = in ? row * width + col : -1;
+    offset[i] = du * du + dv * dv;
+    outside += in ? 0 : 1;
+  }
+  return outside;
+}
+
+}  // namespace iilfm::detail
