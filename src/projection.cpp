@@ -222,7 +222,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
   const StridedColumn<float> intensities = cloud.intensity;
   constexpr std::size_t kAhead = 32;
-  constexpr std::uint32_t kMaxCount = (1u << 24) - 1;
+  constexpr std::uint32_t kMaxCount = PixelAccumulator::kCountMask;
   std::size_t projected = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (i + kAhead < n) {
@@ -232,22 +232,25 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     const std::int32_t p = pixel_[i];
     if (p < 0) continue;
     PixelAccumulator& px = pixels_[static_cast<std::size_t>(p)];
-    if (px.count == kMaxCount) continue;  // a full pixel keeps a true mean
+    const std::uint32_t count = px.count();
+    if (count == kMaxCount) continue;  // a full pixel keeps a true mean
     const float r = range_[i], intensity = intensities[i];
     if (!nearest) {
       px.range_sum += r;
       px.intensity_sum += intensity;
-    } else if (px.count == 0 || r < px.range_sum) {
+    } else if (count == 0 || r < px.range_sum) {
       px.range_sum = r;
       px.intensity_sum = intensity;
     }
     // Squared offsets lie in [0, 0.5] pixel^2; 8 bits resolve them to 0.002.
-    const std::uint32_t offset = static_cast<std::uint32_t>(offset_[i] * 510.0f);
-    if (px.count == 0 || offset < px.best_offset) {
-      px.best_offset = offset > 255 ? 255 : offset;
+    std::uint32_t offset = static_cast<std::uint32_t>(offset_[i] * 510.0f);
+    offset = offset > 255 ? 255 : offset;
+    std::uint32_t best = px.best_offset();
+    if (count == 0 || offset < best) {
+      best = offset;
       px.index = static_cast<std::int32_t>(i);
     }
-    ++px.count;
+    px.count_offset = (best << 24) | (count + 1);
     ++projected;
   }
   out.geometry = std::move(g);
@@ -266,12 +269,13 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   std::int32_t* count = out.count.ptr<std::int32_t>();
   for (std::size_t p = 0; p < total; ++p) {
     const PixelAccumulator& px = pixels_[p];
-    const float scale = (nearest || px.count <= 1) ? 1.0f : 1.0f / static_cast<float>(px.count);
+    const std::uint32_t n_px = px.count_offset & PixelAccumulator::kCountMask;
+    const float scale = (nearest || n_px <= 1) ? 1.0f : 1.0f / static_cast<float>(n_px);
     range[p] = px.range_sum * scale;
     intensity[p] = px.intensity_sum * scale;
-    mask[p] = px.count > 0 ? 255 : 0;
-    index[p] = px.count > 0 ? px.index : -1;
-    count[p] = px.count;
+    mask[p] = n_px > 0 ? 255 : 0;
+    index[p] = n_px > 0 ? px.index : -1;
+    count[p] = static_cast<std::int32_t>(n_px);
   }
   out.points_projected = projected;
   out.stamp = next_projection_stamp();

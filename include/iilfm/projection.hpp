@@ -139,9 +139,14 @@ class SphericalProjector {
   // two), so a scattered point order (the Livox rosette) costs one cache miss per point.
   struct PixelAccumulator {
     float range_sum, intensity_sum;
-    std::int32_t index;             // the point nearest to the pixel centre so far
-    std::uint32_t count : 24;       // points in the pixel (saturates at 16.7 million)
-    std::uint32_t best_offset : 8;  // its squared distance to the centre, in 1/510 pixel^2
+    std::int32_t index;  // the point nearest to the pixel centre so far
+    // Low 24 bits: points in the pixel (saturates at 16.7 million); high 8: the nearest point's
+    // squared distance to the centre, in 1/510 pixel^2. One plain word, not bit-fields, so the
+    // loop that turns accumulators into images vectorises.
+    std::uint32_t count_offset;
+    static constexpr std::uint32_t kCountMask = (1u << 24) - 1;
+    std::uint32_t count() const { return count_offset & kCountMask; }
+    std::uint32_t best_offset() const { return count_offset >> 24; }
   };
   static_assert(sizeof(PixelAccumulator) == 16, "four accumulators per cache line");
 
