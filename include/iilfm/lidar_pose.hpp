@@ -101,8 +101,10 @@ struct PoseRefinement {
 //   centroid and the two slopes, each over its variance (the moment form of the sum of squared
 //   point-to-plane distances, the points' own noise as the fit measured it).
 // A plane whose own chi-square (3 dof) exceeds the 99.9 % bound, or that pulls the pose further
-// from `start` than `start_covariance` allows (6 dof, 99.9 %), is left out, worst first; with no
-// plane left, nothing is refined (ok = false): the corners alone are what `start` already used.
+// from `start` than `start_covariance` allows (6 dof, 99.9 %; a singular covariance gives no such
+// gate), is left out, worst first; with no plane left, nothing is refined (ok = false): the
+// corners alone are what `start` already used. The covariance is scaled by the chi-square over
+// its degrees of freedom when that exceeds 1.
 PoseRefinement refine_lidar_pose(const std::vector<MarkerCorrespondence>& markers,
                                  const Isometry3& start, const Mat6& start_covariance);
 
