@@ -53,11 +53,11 @@ TEST(PoseRefine, DefaultsAreTheMeasuredChoice) {
 // 0.0592 worst), position 3.15 -> 2.77 mm; the refined covariance: position ratio 1.78, rotation
 // 1.21 (Kabsch's: 2.7 and 2.0).
 TEST(PoseRefine, PlanePointsLowerTheRotationErrorInARoom) {
-  const SetupResult kabsch = run(kRoom, PoseRefine::kNone);
   const SetupResult refined = run(kRoom, PoseRefine::kPoints);
   ASSERT_EQ(refined.summary.poses, static_cast<int>(kSeeds));
+#ifdef NDEBUG  // sanitizer builds run the refinement only, not the comparison
+  const SetupResult kabsch = run(kRoom, PoseRefine::kNone);
   ASSERT_EQ(kabsch.summary.poses, static_cast<int>(kSeeds));
-#ifdef NDEBUG
   EXPECT_LT(refined.summary.rotation_deg.mean(), 0.8 * kabsch.summary.rotation_deg.mean());
   EXPECT_LT(refined.summary.rotation_deg.worst, kabsch.summary.rotation_deg.worst);
   EXPECT_LT(refined.summary.position.mean(), kabsch.summary.position.mean());
@@ -67,16 +67,16 @@ TEST(PoseRefine, PlanePointsLowerTheRotationErrorInARoom) {
 }
 
 // The 35-tag grid on one wall (Mid-40, 3.5 m): the corners, spread over 1.5 m, fix the tilt
-// better than the markers' planes, whose tilt errs by 0.31 deg against 0.21 deg claimed and which
-// share the wall's points. Measured over seeds 1-5: Kabsch 0.98 mm / 0.0161 deg, refined 1.32 mm
+// better than the markers' planes, whose tilt errs by 4.1-4.4 mrad RMS against 1.85 mrad claimed
+// (docs/accuracy.md). Measured over seeds 1-5: Kabsch 0.98 mm / 0.0161 deg, refined 1.32 mm
 // / 0.0213 deg, corners weighted 1.18 mm / 0.0191 deg. This is why both stay off by default; the
 // refined covariance still covers its error (ratios 1.29 / 1.19).
 TEST(PoseRefine, OnACoplanarGridTheCornersAloneAreBest) {
-  const SetupResult kabsch = run(kGrid, PoseRefine::kNone);
   const SetupResult refined = run(kGrid, PoseRefine::kPoints);
+  ASSERT_EQ(refined.summary.poses, static_cast<int>(kSeeds));
+#ifdef NDEBUG  // sanitizer builds run the refinement only, not the comparison
+  const SetupResult kabsch = run(kGrid, PoseRefine::kNone);
   const SetupResult weighted = run(kGrid, PoseRefine::kNone, true);
-  ASSERT_EQ(kabsch.summary.poses, static_cast<int>(kSeeds));
-#ifdef NDEBUG
   EXPECT_LT(kabsch.summary.position.mean(), 0.0015);
   EXPECT_LT(kabsch.summary.rotation_deg.mean(), 0.025);
   EXPECT_LT(kabsch.summary.position.mean(), refined.summary.position.mean());
