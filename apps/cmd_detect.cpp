@@ -37,6 +37,7 @@ struct DetectArgs {
   double marker_size = 0;
   int min_pose_corners = static_cast<int>(LidarPoseOptions{}.min_corners);
   double max_pose_rms = LidarPoseOptions{}.max_rms_m;
+  std::string pose_refine = to_string(LidarPoseOptions{}.refine);
   int frames = 1;
   std::string threshold;
   std::string lift = "plane";
@@ -138,6 +139,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   if (args.marker_size > 0) options.marker_size = args.marker_size;
   if (!args.map_path.empty()) options.map = MarkerMap::load(args.map_path);
   options.pose.min_corners = static_cast<std::size_t>(args.min_pose_corners);
+  options.pose.refine = pose_refine_named(args.pose_refine);
   options.pose.max_rms_m = args.max_pose_rms;
   return options;
 }
@@ -302,6 +304,10 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--max-pose-rms", args->max_pose_rms,
                   "Largest corner RMS residual (m) of a reported LiDAR pose (default 0.05)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--pose-refine", args->pose_refine,
+                  "LiDAR pose after Kabsch on the corners: none, or points (refined with each "
+                  "marker's plane points)")
+      ->capture_default_str();
   cmd->add_option("--frames", args->frames,
                   "Integrate N frames: a folder alone gives one result for its first N files; "
                   "sequences slide an N-frame window")

@@ -11,12 +11,14 @@
 #include "iilfm/error.hpp"
 #include "iilfm/eval/report.hpp"
 #include "iilfm/eval/suite.hpp"
+#include "iilfm/option_names.hpp"
 
 namespace iilfm::cli {
 namespace {
 
 struct EvalArgs {
   std::string suite = "quick", lift = "both", json;
+  std::string pose_refine = to_string(LidarPoseOptions{}.refine);
   int seeds = 5;
   std::uint64_t first_seed = 1;
   bool markdown = false, footprint = false, quiet = false;
@@ -59,6 +61,7 @@ int run_eval(const EvalArgs& a) {
   options.footprint = a.footprint;
   options.tweaks.edge_refine = !a.no_edge_refine;
   options.tweaks.weight_corners = a.weight_corners;
+  options.tweaks.pose_refine = pose_refine_named(a.pose_refine);
   options.dark_dropout = a.dark_dropout;
   options.invalid_fraction = a.invalid_fraction;
   std::ofstream json_out;
@@ -93,7 +96,8 @@ Runner register_eval_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "eval", "Score detection and pose on simulated scans of the paper's experiments");
   sub->add_option("--suite", a.suite,
-                  "paper (Tables 1-3 of the paper), quick (one set-up of each table) or range "
+                  "paper (Tables 1-3 of the paper), quick (one set-up of each table), multi "
+                  "(multi-marker maps) or range "
                   "(detection range per sensor and marker size, docs/sensors.md)")
       ->capture_default_str();
   sub->add_option("--seeds", a.seeds, "Seeds per set-up (range: 10)")
@@ -119,6 +123,10 @@ Runner register_eval_command(CLI::App& app) {
                 "Lift the detector's corners as found (no move of the sides to the mid level)");
   sub->add_flag("--weight-corners", a.weight_corners,
                 "Weigh corners by their variance in the LiDAR pose fit");
+  sub->add_option("--pose-refine", a.pose_refine,
+                  "LiDAR pose after Kabsch: none, or points (refined with the marker-plane "
+                  "points)")
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", a.quiet, "No progress lines");
   return [args]() { return run_eval(*args); };
 }

@@ -18,6 +18,18 @@ double marker_residual(const MarkerCorrespondence& m, const Isometry3& T_lidar_w
   return std::sqrt(sum / static_cast<double>(m.world.size()));
 }
 
+// RMS distance of all corners of `markers` from where T_lidar_world puts them.
+double rms_residual(const std::vector<MarkerCorrespondence>& markers,
+                    const Isometry3& T_lidar_world) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (const MarkerCorrespondence& m : markers) {
+    for (std::size_t k = 0; k < m.world.size(); ++k, ++n)
+      sum += (T_lidar_world * m.world[k] - m.lidar[k]).squaredNorm();
+  }
+  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0;
+}
+
 double tolerance(const MarkerCorrespondence& m, const LidarPoseOptions& options) {
   Vec3 centre = Vec3::Zero();
   for (const Vec3& p : m.lidar) centre += p / static_cast<double>(m.lidar.size());
@@ -190,6 +202,19 @@ LidarPoseResult estimate_lidar_pose(const std::vector<MarkerCorrespondence>& mar
   Stacked s = stack(markers, use, options.weight_corners);
   if (s.covariance.size() == 0) s.covariance = residual_covariance(s.world, s.lidar, fit.T);
   pose.covariance = rigid_fit_covariance(s.world, s.lidar, s.weights, s.covariance, true);
+  if (options.refine == PoseRefine::kPoints) {
+    std::vector<MarkerCorrespondence> used;
+    for (std::size_t i = 0; i < markers.size(); ++i)
+      if (use[i]) used.push_back(markers[i]);
+    PoseRefinement refined = refine_lidar_pose(used, pose.T_world_lidar, pose.covariance);
+    if (refined.ok) {
+      pose.T_world_lidar = refined.T_world_lidar;
+      pose.covariance = refined.covariance;
+      pose.rms = rms_residual(used, pose.T_world_lidar.inverse());
+    }
+    pose.planes_used = std::move(refined.planes_used);
+    pose.planes_rejected = std::move(refined.planes_rejected);
+  }
   result.rejected = false;
   result.ok = true;
   return result;

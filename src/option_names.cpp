@@ -16,6 +16,16 @@ ArucoRefine aruco_refine_named(const std::string& name) {
                    "'");
 }
 
+PoseRefine pose_refine_named(const std::string& name) {
+  if (name == "none") return PoseRefine::kNone;
+  if (name == "points") return PoseRefine::kPoints;
+  throw InputError("--pose-refine must be none or points, got '" + name + "'");
+}
+
+const char* to_string(PoseRefine refine) {
+  return refine == PoseRefine::kPoints ? "points" : "none";
+}
+
 void set_collision(const std::string& name, PipelineOptions& options) {
   if (name == "nearest")
     options.projection.collision = CollisionPolicy::kNearest;

@@ -226,7 +226,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (const MarkerResult& marker : r.markers) {
       if (!marker.in_map) continue;
       const MapMarker* mapped = options_.map->find(marker.detection.family, marker.detection.id);
-      MarkerCorrespondence c{mapped->key(), {}, {}, {}};
+      MarkerCorrespondence c{mapped->key(), {}, {}, {}, {}};
       const std::vector<Vec3> world = world_keypoints(marker.detection, *mapped);
       for (std::size_t k = 0; k < marker.corners.size() && k < world.size(); ++k) {
         if (!marker.corners[k].valid()) continue;
@@ -235,6 +235,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
                                                        : marker.lifted_points[k]);
       }
       c.lidar_covariance = marker.corner_covariance;
+      c.plane = marker.plane;
       if (!c.world.empty()) correspondences.push_back(std::move(c));
     }
     LidarPoseResult estimate = estimate_lidar_pose(correspondences, options_.pose);

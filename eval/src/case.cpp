@@ -110,6 +110,7 @@ CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks
   PipelineOptions options = pipeline_options_for(c, lift);
   options.edge_refine = tweaks.edge_refine;
   options.pose.weight_corners = tweaks.weight_corners;
+  options.pose.refine = tweaks.pose_refine;
   Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }

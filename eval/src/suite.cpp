@@ -82,9 +82,34 @@ SuiteSetup mid40_aruco() {
   return s;
 }
 
+// Multi-marker maps: the paper's 35-tag grid on one wall, and rooms with markers near and far
+// on several walls (where corner weights and plane normals could matter).
+std::vector<SuiteSetup> multi_marker_setups() {
+  const char* group = "Multi-marker maps";
+  SuiteSetup grid;
+  grid.group = group;
+  grid.name = "Mid-40, 35-tag grid, 3.5 m, 40 frames";
+  grid.spec.scene = "grid";
+  grid.spec.sensor = "mid40";
+  grid.spec.frames = 40;
+  SuiteSetup room;
+  room.group = group;
+  room.name = "Avia, room: 4 x 30 cm tags at 2.3-4.5 m on two walls and a box, 40 frames";
+  room.spec.scene = "room";
+  room.spec.sensor = "avia";
+  room.spec.frames = 40;
+  SuiteSetup around;
+  around.group = group;
+  around.name = "OS1-64, around: 5 x 50 cm tags on four walls at 5-6 m, one sweep";
+  around.spec.scene = "around";
+  around.spec.sensor = "os1-64";
+  around.spec.frames = 1;
+  return {grid, room, around};
+}
+
 }  // namespace
 
-std::vector<std::string> suite_names() { return {"paper", "quick"}; }
+std::vector<std::string> suite_names() { return {"paper", "quick", "multi"}; }
 
 std::vector<SuiteSetup> named_suite(const std::string& name) {
   if (name == "paper") {
@@ -104,7 +129,8 @@ std::vector<SuiteSetup> named_suite(const std::string& name) {
   if (name == "quick") {
     return {mid40_at(2.0, 40), mid40_turned("yaw", 15), ccw10m(), mid40_aruco()};
   }
-  throw InputError("unknown evaluation suite '" + name + "' (known: paper, quick)");
+  if (name == "multi") return multi_marker_setups();
+  throw InputError("unknown evaluation suite '" + name + "' (known: paper, quick, multi)");
 }
 
 void Stat::add(double value, double worst_value) {

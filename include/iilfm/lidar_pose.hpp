@@ -3,6 +3,7 @@
 // dropped.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,11 @@ struct MarkerCorrespondence {
   // Joint covariance of `lidar` (3n x 3n, metres^2); empty when unknown (then the fit's residual
   // stands in for every corner's noise).
   Eigen::MatrixXd lidar_covariance;
+  // The marker's fitted plane (plane lift), `lidar` lying on it. Its centre, axes and offset and
+  // slope variances summarise the plane's inlier points (their centroid, the principal axes of
+  // their scatter, and the residual noise over the count and over the spread along each axis),
+  // which is all the point-to-plane refinement needs: O(1) per marker, not O(points).
+  std::optional<Plane> plane;
 };
 
 struct RejectedMarker {
@@ -35,6 +41,14 @@ struct LidarPose {
   // 6x6 over (rx, ry, rz, x, y, z) of T_world_lidar (pose_covariance.hpp): right-perturbation
   // rotation in the LiDAR frame (rad), LiDAR position in the world (m).
   Mat6 covariance = Mat6::Zero();
+  // Markers whose plane points refined the pose (LidarPoseOptions::refine), and those whose plane
+  // disagreed with the corners and was left out (their corners still count).
+  std::vector<std::string> planes_used, planes_rejected;
+};
+
+enum class PoseRefine {
+  kNone,    // the Kabsch pose of the agreeing markers' corners
+  kPoints,  // then Gauss-Newton on the corners' rays and the marker-plane points
 };
 
 struct LidarPoseOptions {
@@ -49,6 +63,8 @@ struct LidarPoseOptions {
   // base + per_metre * (its distance): corner errors grow with range.
   double max_marker_residual_m = 0.03;
   double max_marker_residual_per_metre = 0.003;
+  // After Kabsch and the robust step: refine with each marker's plane points (refine_lidar_pose).
+  PoseRefine refine = PoseRefine::kNone;
 };
 
 struct LidarPoseResult {
@@ -66,5 +82,30 @@ struct LidarPoseResult {
 // outvoted, and a pose whose markers disagree beyond the tolerance is refused.
 LidarPoseResult estimate_lidar_pose(const std::vector<MarkerCorrespondence>& markers,
                                     const LidarPoseOptions& options = {});
+
+struct PoseRefinement {
+  bool ok = false;  // false: nothing to refine with, or the normal matrix was singular
+  Isometry3 T_world_lidar = Isometry3::Identity();
+  Mat6 covariance = Mat6::Zero();  // inverse of the Gauss-Newton normal matrix
+  std::vector<std::string> planes_used, planes_rejected;
+  double chi2 = 0;  // whitened cost at the optimum
+  int dof = 0;      // residuals minus 6
+};
+
+// Refines T_world_lidar (from `start`, e.g. the Kabsch pose, whose covariance is
+// `start_covariance`) by Gauss-Newton on two independent kinds of evidence per marker:
+// - its corners' rays: each corner's residual projected along its ray onto the marker's plane
+//   (the detection's in-plane error; the plane's error moves a lifted corner along its ray), with
+//   the in-plane part of its covariance. Markers without a plane use the full 3-D residual.
+// - its plane's points against the map's plane through its corners: the offset at the points'
+//   centroid and the two slopes, each over its variance (the moment form of the sum of squared
+//   point-to-plane distances, the points' own noise as the fit measured it).
+// A plane whose own chi-square (3 dof) exceeds the 99.9 % bound, or that pulls the pose further
+// from `start` than `start_covariance` allows (6 dof, 99.9 %; a singular covariance gives no such
+// gate), is left out, worst first; with no plane left, nothing is refined (ok = false): the
+// corners alone are what `start` already used. The covariance is scaled by the chi-square over
+// its degrees of freedom when that exceeds 1.
+PoseRefinement refine_lidar_pose(const std::vector<MarkerCorrespondence>& markers,
+                                 const Isometry3& start, const Mat6& start_covariance);
 
 }  // namespace iilfm

@@ -11,6 +11,11 @@ namespace iilfm {
 // "none", "subpixel", "contour", "apriltag".
 ArucoRefine aruco_refine_named(const std::string& name);
 
+// --pose-refine: "none" (the Kabsch pose of the corners) or "points" (then refined with the
+// marker-plane points), and its name back.
+PoseRefine pose_refine_named(const std::string& name);
+const char* to_string(PoseRefine refine);
+
 // --collision: "mean" or "nearest".
 void set_collision(const std::string& name, PipelineOptions& options);
 

@@ -151,6 +151,7 @@ class Pipeline:
         aruco_window_min: int = 3,
         aruco_window_max: int = 23,
         aruco_window_step: int = 10,
+        pose_refine: str = "none",
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""

@@ -29,6 +29,7 @@ struct Options {
   std::optional<double> res_h, res_v, marker_size;
   py::object threshold;
   std::string lift = "plane", collision = "mean", aruco_refine = "contour";
+  std::string pose_refine = to_string(LidarPoseOptions{}.refine);
   double blur = 0;
   bool gray = false, refine_edges = true;
   float decimate = 1, quad_sigma = 0;
@@ -67,6 +68,7 @@ PipelineOptions pipeline_options(const Options& a) {
 
   set_collision(a.collision, options);
   set_lift(a.lift, options);
+  options.pose.refine = pose_refine_named(a.pose_refine);
 
   // The ranges `iilfm detect` enforces on these options.
   require_range(a.decimate, 1, 8, "--decimate");
@@ -454,7 +456,7 @@ void register_pipeline(py::module_& m) {
                        py::object threshold, std::string lift, std::string collision, double blur,
                        bool gray, float decimate, float quad_sigma, bool refine_edges, int threads,
                        int max_hamming, std::string aruco_refine, int aruco_window_min,
-                       int aruco_window_max, int aruco_window_step) {
+                       int aruco_window_max, int aruco_window_step, std::string pose_refine) {
              Options o;
              o.sensor = std::move(sensor);
              o.markers = std::move(markers);
@@ -476,6 +478,7 @@ void register_pipeline(py::module_& m) {
              o.aruco_window_min = aruco_window_min;
              o.aruco_window_max = aruco_window_max;
              o.aruco_window_step = aruco_window_step;
+             o.pose_refine = std::move(pose_refine);
              return std::make_unique<PyPipeline>(o);
            }),
            py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
@@ -488,6 +491,7 @@ void register_pipeline(py::module_& m) {
            py::arg("aruco_window_min") = ArucoOptions{}.window_min,
            py::arg("aruco_window_max") = ArucoOptions{}.window_max,
            py::arg("aruco_window_step") = ArucoOptions{}.window_step,
+           py::arg("pose_refine") = to_string(LidarPoseOptions{}.refine),
            "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
            "neither, the resolution is estimated from the first cloud detected (as `iilfm "
            "detect` does without --sensor) and kept for later frames (see resolution).\n"

@@ -31,6 +31,7 @@ def test_bad_options_match_the_cli(scan, tmp_path):
         (dict(sensor="mid40", threshold="high"), ["--sensor", "mid40", "--threshold", "high"]),
         (dict(sensor="mid40", lift="magic"), ["--sensor", "mid40", "--lift", "magic"]),
         (dict(sensor="mid40", collision="max"), ["--sensor", "mid40", "--collision", "max"]),
+        (dict(sensor="mid40", pose_refine="best"), ["--sensor", "mid40", "--pose-refine", "best"]),
         (dict(sensor="mid40", aruco_refine="x"), ["--sensor", "mid40", "--aruco-refine", "x"]),
         (dict(res_h=1e-6, res_v=1e-6), ["--res-h", "1e-6", "--res-v", "1e-6"]),
     ]

@@ -154,6 +154,21 @@ TEST(Cli, PoseOverTheResidualBoundIsRefused) {
   EXPECT_TRUE(j["pose"].is_null());
   EXPECT_NE(j["pose_rejected"]["reason"].get<std::string>().find("need 5"), std::string::npos);
   expect_input_error("detect " + pcd + " --sensor mid40 --max-pose-rms -1", "--max-pose-rms");
+
+  // The refinement with the plane points: one marker, the same pose within a millimetre.
+  r = run_cli("detect " + pcd + " --sensor mid40 --map " + map + " -q --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json kabsch = nlohmann::json::parse(slurp(json));
+  r = run_cli("detect " + pcd + " --sensor mid40 --map " + map +
+              " --pose-refine points -q --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(slurp(json));
+  ASSERT_FALSE(j["pose"].is_null());
+  ASSERT_FALSE(kabsch["pose"].is_null());
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), kabsch["pose"]["xyz"][a].get<double>(), 0.001);
+  expect_input_error("detect " + pcd + " --sensor mid40 --map " + map + " --pose-refine best",
+                     "--pose-refine must be none or points, got 'best'");
 }
 
 TEST(Cli, BadInputGivesOneLineAndExitTwo) {

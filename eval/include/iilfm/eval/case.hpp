@@ -68,6 +68,7 @@ CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth);
 struct PipelineTweaks {
   bool edge_refine = PipelineOptions{}.edge_refine;
   bool weight_corners = LidarPoseOptions{}.weight_corners;
+  PoseRefine pose_refine = LidarPoseOptions{}.refine;
 };
 
 // Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.

@@ -26,6 +26,8 @@ struct SuiteSetup {
 // marker of the paper's grid at 2 m.
 // "quick": one set-up of each table (2 m / 40 frames, yaw +15 deg, ccw10m) and the Mid-40 ArUco
 // case, for CI.
+// "multi": multi-marker maps: the 35-tag grid (Mid-40, 3.5 m), the room scene (Avia, four
+// markers near and far) and the around scene (OS1-64, five markers on four walls).
 // InputError for other names.
 std::vector<SuiteSetup> named_suite(const std::string& name);
 std::vector<std::string> suite_names();
