@@ -56,7 +56,8 @@ Runner register_marker_command(CLI::App& app) {
   print->add_option("id", args->request.id, "Marker id")->required();
   print
       ->add_option("--size", args->request.size_m,
-                   "Edge of the marker's square in metres (the black square; docs/detectors.md)")
+                   "Edge of the marker's square in metres (the black square; rings: the outer "
+                   "diameter; docs/detectors.md)")
       ->required();
   print->add_option("--dpi", args->request.dpi, "Print resolution")->capture_default_str();
   print->add_option("--out", args->png_path, "PNG file (default FAMILY_ID.png)");

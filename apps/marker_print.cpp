@@ -74,11 +74,17 @@ MarkerPrint render_marker_print(const MarkerPrintRequest& request) {
   const int border = cells.width_at_border;
   const int margin = (cells.total_width - border) / 2 + kExtraQuietCells;  // cells, each side
   const long square_px = std::lround(request.size_m * request.dpi / kMetresPerInch);
-  if (square_px < static_cast<long>(kMinPixelsPerCell) * border) {
+  // Ring markers are drawn exactly at the print's resolution: their rings, not the simulator's
+  // cells, need the minimum width (rings across the diameter).
+  const RingsFamily* rings = rings_family_of(request.family);
+  const int units = rings ? 2 * rings->annuli() : border;
+  const std::string unit = rings ? "ring" : "cell";
+  if (square_px < static_cast<long>(kMinPixelsPerCell) * units) {
     throw InputError(request.family + " at " + format("%g", request.size_m) + " m and " +
                      format("%g", request.dpi) + " dpi gives " + std::to_string(square_px) +
-                     " px for " + std::to_string(border) + " cells: fewer than " +
-                     std::to_string(kMinPixelsPerCell) + " px per cell (raise --dpi or --size)");
+                     " px for " + std::to_string(units) + " " + unit + "s: fewer than " +
+                     std::to_string(kMinPixelsPerCell) + " px per " + unit +
+                     " (raise --dpi or --size)");
   }
   // Cell k (counted from the square's left edge) spans [edge(k), edge(k + 1)): whole pixels whose
   // widths differ by at most one, so the square is exactly square_px wide.
@@ -110,7 +116,6 @@ MarkerPrint render_marker_print(const MarkerPrintRequest& request) {
   print.square =
       cv::Rect(left + origin, origin, static_cast<int>(square_px), static_cast<int>(square_px));
   print.cell_px = static_cast<double>(square_px) / border;
-  const RingsFamily* rings = rings_family_of(request.family);
   if (rings) draw_rings(*rings, request.id, print.square, print.image);
   const int first = -(cells.total_width - border) / 2;  // texture cell 0, in square cells
   for (int row = 0; row < cells.total_width && !rings; ++row) {

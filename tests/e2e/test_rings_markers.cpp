@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
 #include "iilfm/eval/case.hpp"
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/sensor.hpp"
@@ -126,6 +129,43 @@ TEST(SimRings, MarkerFreeScenesGiveNoRingMarker) {
     frames_seen += result.image.geometry.width > 0;
   }
   EXPECT_EQ(frames_seen, 50);
+}
+
+// The same scene through the CLI: a scene file with three rings:ring9h3 markers, `iilfm sim`,
+// then `iilfm detect` with the simulator's map: three ids, their centres in the JSON, a pose.
+TEST(SimRings, CliSimulatesAndDetectsRingMarkersFromASceneFile) {
+  const auto dir = cli_temp_dir();
+  const std::string scene = (dir / "rings.yaml").string(), pcd = (dir / "rings.pcd").string(),
+                    map = (dir / "rings_map.yaml").string(), json = (dir / "rings.json").string();
+  std::ofstream(scene)
+      << "lidar: {sensor: mid40, position: [0, 0.1, 0.45], rpy_deg: [0, 0, 0]}\n"
+         "walls:\n"
+         "  - {centre: [2.5, 0, 0.5], rpy_deg: [90, 0, -75], width: 4, height: 2.5}\n"
+         "markers:\n"
+         "  - {family: rings:ring9h3, id: 3, size: 0.3, on_wall: 0, at: [-0.4, 0.15]}\n"
+         "  - {family: rings:ring9h3, id: 11, size: 0.3, on_wall: 0, at: [0, -0.15]}\n"
+         "  - {family: rings:ring9h3, id: 14, size: 0.3, on_wall: 0, at: [0.35, 0.1]}\n";
+  const CliRun sim =
+      run_cli("sim --scene-file " + scene + " --frames 40 --seed 3 --out " + pcd + " --map " + map);
+  ASSERT_EQ(sim.status, 0) << sim.err;
+  const CliRun detect = run_cli("detect " + pcd + " --sensor mid40 --marker rings:ring9h3 --map " +
+                                map + " --min-pose-corners 3 --json " + json);
+  ASSERT_EQ(detect.status, 0) << detect.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(j["markers"].size(), 3u);
+  std::vector<int> ids;
+  for (const auto& m : j["markers"]) {
+    EXPECT_EQ(m["family"], "rings:ring9h3");
+    EXPECT_EQ(m["corners_px"].size(), 1u);
+    EXPECT_TRUE(m["in_map"].get<bool>());
+    ids.push_back(m["id"].get<int>());
+  }
+  EXPECT_EQ(ids, (std::vector<int>{3, 11, 14}));
+  ASSERT_FALSE(j["pose"].is_null()) << j.dump();
+  const auto& T = j["pose"]["T_world_lidar"];
+  EXPECT_NEAR(T[0][3].get<double>(), 0.0, 0.005);
+  EXPECT_NEAR(T[1][3].get<double>(), 0.1, 0.005);
+  EXPECT_NEAR(T[2][3].get<double>(), 0.45, 0.005);
 }
 
 // The real Pandar64 scans (../shared/data/real, SOURCES.md) show calibration boards with a
