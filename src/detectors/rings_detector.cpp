@@ -136,6 +136,7 @@ class RingsDetector final : public MarkerDetector {
               [](const Ellipse& x, const Ellipse& y) { return x.area() > y.area(); });
 
     std::vector<bool> used(ellipses.size(), false);
+    std::vector<Ellipse> found;  // outer edges of the markers decoded so far
     const double min_radius = options_.min_ring_px * family_.annuli();
     for (std::size_t i = 0; i < ellipses.size(); ++i) {
       if (used[i] || std::min(ellipses[i].a, ellipses[i].b) < min_radius) continue;
@@ -143,6 +144,11 @@ class RingsDetector final : public MarkerDetector {
       Ellipse outer = ellipses[i];
       outer.a += 0.5;
       outer.b += 0.5;
+      // Another contour of a decoded marker (a ring's edge traced from the other side, a hole
+      // of unobserved pixels on it) would report it twice.
+      if (std::any_of(found.begin(), found.end(),
+                      [&](const Ellipse& f) { return f.radius_of(outer.centre) < 1; }))
+        continue;
       std::vector<std::size_t> inner = concentric_boundaries(ellipses, i, outer);
       if (inner.empty()) continue;  // not even the frame's inner edge: no ring marker
       const Vec2 origin = centre(ellipses, i, inner);
@@ -150,6 +156,7 @@ class RingsDetector final : public MarkerDetector {
       if (!decode(gray, outer, origin, det)) continue;
       used[i] = true;
       for (std::size_t j : inner) used[j] = true;
+      found.push_back(outer);
       det.family = name_;
       det.corners_px = {origin};
       det.keypoints_marker = {Vec2(0, 0)};
