@@ -22,14 +22,14 @@ struct Sweep {
   std::vector<double> distances;
 };
 
-// Measured (Release, 3 seeds): gray never found a marker binarised input missed; binarised found
-// two rings:ring9h3 gray missed (OS1-64, 1 m): binarised stays every back-end's default.
+// Measured (3 seeds): gray never found a marker binarised input missed; binarised found two
+// rings:ring9h3 gray missed (OS1-64, 1 m): binarised stays every back-end's default.
 TEST(DetectorInput, BinarisedInputFindsAtLeastAsManyMarkersAsGrayForEveryBackEnd) {
   const std::vector<std::string> families = {"apriltag:tag36h11", "aruco:DICT_4X4_50",
                                              "rings:ring9h3"};
 #ifdef NDEBUG
   const std::vector<Sweep> sweeps = {{"mid40", {2, 4, 6, 8, 10}}, {"os1-64", {1, 2, 3, 4}}};
-  constexpr int kSeeds = 3;
+  constexpr int kSeeds = 2;  // the table in docs/detectors.md was measured with 3
 #else  // sanitizer builds simulate 20-40x slower: the measurement's near and far ends only
   const std::vector<Sweep> sweeps = {{"mid40", {2, 10}}, {"os1-64", {1, 3}}};
   constexpr int kSeeds = 1;
@@ -54,7 +54,10 @@ TEST(DetectorInput, BinarisedInputFindsAtLeastAsManyMarkersAsGrayForEveryBackEnd
             Pipeline pipeline(options);
             const eval::CaseScore s =
                 eval::score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
-            Rate& rate = (binarize ? binary : gray)[family + " " + sweep.sensor];
+            char key[96];
+            std::snprintf(key, sizeof key, "%s | %s | %4.1f m", family.c_str(),
+                          sweep.sensor.c_str(), distance);
+            Rate& rate = (binarize ? binary : gray)[key];
             rate.found += s.detected;
             rate.scans += 1;
             rate.false_positives += s.false_positives + s.wrong_ids;
@@ -63,13 +66,13 @@ TEST(DetectorInput, BinarisedInputFindsAtLeastAsManyMarkersAsGrayForEveryBackEnd
       }
     }
   }
-  std::printf("[ measured ] | back-end, sensor | binarised found | gray found |\n");
+  std::printf("[ measured ] | family | sensor | distance | binarised found | gray found |\n");
   for (const auto& [key, b] : binary) {
     const Rate& g = gray.at(key);
     std::printf("[ measured ] | %s | %d/%d (%d false) | %d/%d (%d false) |\n", key.c_str(), b.found,
                 b.scans, b.false_positives, g.found, g.scans, g.false_positives);
     EXPECT_GE(b.found, g.found) << key;
-    EXPECT_EQ(b.false_positives, 0) << key;
+    EXPECT_EQ(b.false_positives + g.false_positives, 0) << key;
   }
 }
 

@@ -70,9 +70,14 @@ double worst_centre_error(const RingsScan& s, int* matched) {
 // and 0.03-0.06 deg, over 2.2-3 m and both families. The 45 deg wall needs the rings sampled with
 // the perspective shift of their centres (docs/detectors.md); at 55 deg some markers are lost.
 TEST(SimRings, ThreeRingMarkersOnAWallAreFoundAndGiveOnePose) {
+#ifdef NDEBUG
+  const std::vector<double> kDistances = {2.2, 2.6, 3.0};
+#else
+  const std::vector<double> kDistances = {2.6};  // sanitizer builds simulate 20-40x slower
+#endif
   for (const std::string family : {"rings:ring9h3", "rings:ring7h3"}) {
     for (const double yaw : {15.0, 45.0}) {
-      for (const double distance : {2.2, 2.6, 3.0}) {
+      for (const double distance : kDistances) {
         const auto seed = static_cast<std::uint64_t>(distance * 10 + yaw);
         const RingsScan s = three_markers_on_a_wall(family, seed, distance, yaw);
         const eval::CaseScore score = eval::score_frame(s.result, s.scan.truth);
@@ -104,8 +109,13 @@ TEST(SimRings, ThreeRingMarkersOnAWallAreFoundAndGiveOnePose) {
 // The simulator's scenes with their markers taken away, 50 seeds: a room (Avia) and a wall with
 // a floor at 1.5-4 m (Mid-40). Neither ring family reports anything.
 TEST(SimRings, MarkerFreeScenesGiveNoRingMarker) {
+#ifdef NDEBUG
+  constexpr std::uint64_t kSeeds = 50;
+#else
+  constexpr std::uint64_t kSeeds = 6;            // sanitizer builds simulate 20-40x slower
+#endif
   int frames_seen = 0;
-  for (std::uint64_t seed = 1; seed <= 50; ++seed) {
+  for (std::uint64_t seed = 1; seed <= kSeeds; ++seed) {
     sim::SceneSetup setup;
     if (seed % 2 == 0) {
       setup = sim::named_scene("room");
@@ -128,7 +138,7 @@ TEST(SimRings, MarkerFreeScenesGiveNoRingMarker) {
     EXPECT_EQ(result.markers.size(), 0u) << "seed " << seed << " (" << setup.sensor << ")";
     frames_seen += result.image.geometry.width > 0;
   }
-  EXPECT_EQ(frames_seen, 50);
+  EXPECT_EQ(frames_seen, static_cast<int>(kSeeds));
 }
 
 // The same scene through the CLI: a scene file with three rings:ring9h3 markers, `iilfm sim`,
