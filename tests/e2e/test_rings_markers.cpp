@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -142,11 +143,13 @@ TEST(SimRings, MarkerFreeScenesGiveNoRingMarker) {
 }
 
 // The same scene through the CLI: a scene file with three rings:ring9h3 markers, `iilfm sim`,
-// then `iilfm detect` with the simulator's map: three ids, their centres in the JSON, a pose.
+// then `iilfm detect` with the simulator's map: three ids, their centres in the JSON, a pose, and
+// the image overlay and HTML report written.
 TEST(SimRings, CliSimulatesAndDetectsRingMarkersFromASceneFile) {
   const auto dir = cli_temp_dir();
   const std::string scene = (dir / "rings.yaml").string(), pcd = (dir / "rings.pcd").string(),
-                    map = (dir / "rings_map.yaml").string(), json = (dir / "rings.json").string();
+                    map = (dir / "rings_map.yaml").string(), json = (dir / "rings.json").string(),
+                    png = (dir / "rings.png").string(), html = (dir / "rings.html").string();
   std::ofstream(scene)
       << "lidar: {sensor: mid40, position: [0, 0.1, 0.45], rpy_deg: [0, 0, 0]}\n"
          "walls:\n"
@@ -158,9 +161,13 @@ TEST(SimRings, CliSimulatesAndDetectsRingMarkersFromASceneFile) {
   const CliRun sim =
       run_cli("sim --scene-file " + scene + " --frames 40 --seed 3 --out " + pcd + " --map " + map);
   ASSERT_EQ(sim.status, 0) << sim.err;
-  const CliRun detect = run_cli("detect " + pcd + " --sensor mid40 --marker rings:ring9h3 --map " +
-                                map + " --min-pose-corners 3 --json " + json);
+  const CliRun detect =
+      run_cli("detect " + pcd + " --sensor mid40 --marker rings:ring9h3 --map " + map +
+              " --min-pose-corners 3 --json " + json + " --image " + png + " --html " + html);
   ASSERT_EQ(detect.status, 0) << detect.err;
+  // The overlay and the report draw one keypoint and the outline of each marker.
+  EXPECT_GT(std::filesystem::file_size(png), 1000u);
+  EXPECT_GT(std::filesystem::file_size(html), 1000u);
   const nlohmann::json j = nlohmann::json::parse(slurp(json));
   ASSERT_EQ(j["markers"].size(), 3u);
   std::vector<int> ids;
