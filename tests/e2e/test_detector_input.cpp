@@ -30,8 +30,8 @@ TEST(DetectorInput, BinarisedInputFindsAtLeastAsManyMarkersAsGrayForEveryBackEnd
 #ifdef NDEBUG
   const std::vector<Sweep> sweeps = {{"mid40", {2, 4, 6, 8, 10}}, {"os1-64", {1, 2, 3, 4}}};
   constexpr int kSeeds = 2;  // the table in docs/detectors.md was measured with 3
-#else  // sanitizer builds simulate 20-40x slower: the measurement's near and far ends only
-  const std::vector<Sweep> sweeps = {{"mid40", {2, 10}}, {"os1-64", {1, 3}}};
+#else  // sanitizer builds simulate 20-40x slower (10 min for 12 scans): the near end only
+  const std::vector<Sweep> sweeps = {{"mid40", {2}}, {"os1-64", {1}}};
   constexpr int kSeeds = 1;
 #endif
   std::map<std::string, Rate> binary, gray;
