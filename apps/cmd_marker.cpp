@@ -32,8 +32,9 @@ int run_print(PrintArgs& a) {
   if (a.png_path.empty()) a.png_path = default_png_name(a.request);
   write_png_with_dpi(a.png_path, print.image, a.request.dpi);
   std::cout << "wrote " << a.png_path << ": " << print.image.cols << "x" << print.image.rows
-            << " px, square " << print.square.width << " px = " << a.request.size_m << " m at "
-            << a.request.dpi << " dpi (" << print.cell_px << " px per cell)\n";
+            << " px, " << (a.request.family.rfind("rings:", 0) == 0 ? "diameter " : "square ")
+            << print.square.width << " px = " << a.request.size_m << " m at " << a.request.dpi
+            << " dpi (" << print.cell_px << " px per cell)\n";
   if (!a.svg_path.empty()) {
     std::ofstream file(a.svg_path);
     if (!file || !(file << render_marker_svg(a.request)) || !file.flush())
@@ -56,7 +57,8 @@ Runner register_marker_command(CLI::App& app) {
   print->add_option("id", args->request.id, "Marker id")->required();
   print
       ->add_option("--size", args->request.size_m,
-                   "Edge of the marker's square in metres (the black square; docs/detectors.md)")
+                   "Edge of the marker's square in metres (the black square; rings: the outer "
+                   "diameter; docs/detectors.md)")
       ->required();
   print->add_option("--dpi", args->request.dpi, "Print resolution")->capture_default_str();
   print->add_option("--out", args->png_path, "PNG file (default FAMILY_ID.png)");

@@ -69,6 +69,7 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
   drop_duplicate_detections(detections);  // one report per physical marker
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);
+    for (Vec2& px : d.outline_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);
     MarkerResult marker;
     marker.detection = std::move(d);
     result.markers.push_back(std::move(marker));

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "iilfm/error.hpp"
+#include "iilfm/rings_family.hpp"
 #include "iilfm/sim/marker_texture.hpp"
 
 namespace iilfm::cli {
@@ -34,10 +35,30 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
+constexpr const char* kRingsPrefix = "rings:";
+
+// The rings family of a "rings:..." name, or nothing for the cell-grid families.
+const RingsFamily* rings_family_of(const std::string& family) {
+  if (family.rfind(kRingsPrefix, 0) != 0) return nullptr;
+  return &find_rings_family(family.substr(std::string(kRingsPrefix).size()));
+}
+
 // Caption lines: what the marker is, and what size it must come out at.
 std::vector<std::string> caption_lines(const MarkerPrintRequest& r) {
+  const char* what = rings_family_of(r.family) ? "outer diameter " : "square ";
   return {r.family + "  id " + std::to_string(r.id),
-          "square " + format("%.4f", r.size_m) + " m at " + format("%g", r.dpi) + " dpi"};
+          what + format("%.4f", r.size_m) + " m at " + format("%g", r.dpi) + " dpi"};
+}
+
+// Ring markers are drawn exactly at the print's resolution, not from the simulator's cells: a
+// pixel is black when its centre is.
+void draw_rings(const RingsFamily& family, int id, const cv::Rect& square, cv::Mat& image) {
+  const double radius = 0.5 * square.width;
+  const double cx = square.x + radius - 0.5, cy = square.y + radius - 0.5;
+  for (int y = square.y; y < square.y + square.height; ++y)
+    for (int x = square.x; x < square.x + square.width; ++x)
+      if (family.black_at(id, std::hypot(x - cx, y - cy) / radius))
+        image.at<std::uint8_t>(y, x) = 0;
 }
 
 }  // namespace
@@ -53,11 +74,17 @@ MarkerPrint render_marker_print(const MarkerPrintRequest& request) {
   const int border = cells.width_at_border;
   const int margin = (cells.total_width - border) / 2 + kExtraQuietCells;  // cells, each side
   const long square_px = std::lround(request.size_m * request.dpi / kMetresPerInch);
-  if (square_px < static_cast<long>(kMinPixelsPerCell) * border) {
+  // Ring markers are drawn exactly at the print's resolution: their rings, not the simulator's
+  // cells, need the minimum width (rings across the diameter).
+  const RingsFamily* rings = rings_family_of(request.family);
+  const int units = rings ? 2 * rings->annuli() : border;
+  const std::string unit = rings ? "ring" : "cell";
+  if (square_px < static_cast<long>(kMinPixelsPerCell) * units) {
     throw InputError(request.family + " at " + format("%g", request.size_m) + " m and " +
                      format("%g", request.dpi) + " dpi gives " + std::to_string(square_px) +
-                     " px for " + std::to_string(border) + " cells: fewer than " +
-                     std::to_string(kMinPixelsPerCell) + " px per cell (raise --dpi or --size)");
+                     " px for " + std::to_string(units) + " " + unit + "s: fewer than " +
+                     std::to_string(kMinPixelsPerCell) + " px per " + unit +
+                     " (raise --dpi or --size)");
   }
   // Cell k (counted from the square's left edge) spans [edge(k), edge(k + 1)): whole pixels whose
   // widths differ by at most one, so the square is exactly square_px wide.
@@ -86,8 +113,12 @@ MarkerPrint render_marker_print(const MarkerPrintRequest& request) {
 
   MarkerPrint print;
   print.image = cv::Mat(marker_px + caption_height, width, CV_8U, cv::Scalar(255));
+  print.square =
+      cv::Rect(left + origin, origin, static_cast<int>(square_px), static_cast<int>(square_px));
+  print.cell_px = static_cast<double>(square_px) / border;
+  if (rings) draw_rings(*rings, request.id, print.square, print.image);
   const int first = -(cells.total_width - border) / 2;  // texture cell 0, in square cells
-  for (int row = 0; row < cells.total_width; ++row) {
+  for (int row = 0; row < cells.total_width && !rings; ++row) {
     for (int col = 0; col < cells.total_width; ++col) {
       if (!cells.is_black(row, col)) continue;
       const int x0 = edge(first + col) + origin, x1 = edge(first + col + 1) + origin;
@@ -101,9 +132,6 @@ MarkerPrint render_marker_print(const MarkerPrintRequest& request) {
     cv::putText(print.image, line, cv::Point(gap, y), font, scale, cv::Scalar(0), thickness,
                 cv::LINE_AA);
   }
-  print.square =
-      cv::Rect(left + origin, origin, static_cast<int>(square_px), static_cast<int>(square_px));
-  print.cell_px = static_cast<double>(square_px) / border;
   return print;
 }
 
@@ -129,7 +157,17 @@ std::string render_marker_svg(const MarkerPrintRequest& request) {
       << height_mm << "mm\" viewBox=\"0 0 " << width_mm << " " << height_mm << "\">\n"
       << "<title>" << marker_caption(request) << "</title>\n"
       << "<rect width=\"" << width_mm << "\" height=\"" << height_mm << "\" fill=\"#fff\"/>\n";
-  for (int row = 0; row < cells.total_width; ++row) {
+  if (const RingsFamily* rings = rings_family_of(request.family)) {
+    // One disc per ring, from the outside in, each painted over the previous.
+    const double centre_x = left_mm + 0.5 * cells.total_width * cell_mm;
+    const double centre_y = pad_mm + 0.5 * cells.total_width * cell_mm;
+    for (int k = 0; k < rings->annuli(); ++k) {
+      svg << "<circle cx=\"" << centre_x << "\" cy=\"" << centre_y << "\" r=\""
+          << 0.5 * request.size_m * 1000.0 * (1 - k * rings->ring_width()) << "\" fill=\""
+          << (rings->annulus_black(request.id, k) ? "#000" : "#fff") << "\"/>\n";
+    }
+  }
+  for (int row = 0; row < cells.total_width && !rings_family_of(request.family); ++row) {
     for (int col = 0; col < cells.total_width;) {
       if (!cells.is_black(row, col)) {
         ++col;

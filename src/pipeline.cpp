@@ -166,8 +166,10 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   for (auto& detector : detectors_) detector->detect(r.preprocessed.detect, detections);
   detect_across_seam(r.preprocessed.detect, r.preprocessed.geometry, detectors_, detections);
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
-  for (Detection& d : detections)
+  for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
+    for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
+  }
   detections.erase(std::remove_if(detections.begin(), detections.end(),
                                   [&](const Detection& d) {
                                     return undersampled(d, options_.min_samples_per_cell);

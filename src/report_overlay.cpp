@@ -56,7 +56,19 @@ cv::Mat draw_overlay(const FrameResult& result) {
     Vec2 centre = Vec2::Zero();
     for (const Vec2& px : c) centre += px / static_cast<double>(n);
     const std::string label = "#" + std::to_string(m.detection.id);
-    const double size = std::clamp((to_canvas(c[1]) - to_canvas(c[0])).x / 60.0, 0.4, 1.5);
+    // Label size from the top edge, or the outline's width for a ring marker (one keypoint).
+    double width = 0;
+    if (n >= 2) {
+      width = (to_canvas(c[1]) - to_canvas(c[0])).x;
+    } else if (!outline.empty()) {
+      double left = 1e300, right = -1e300;
+      for (const Vec2& px : outline) {
+        left = std::min(left, to_canvas(px).x);
+        right = std::max(right, to_canvas(px).x);
+      }
+      width = right - left;
+    }
+    const double size = std::clamp(width / 60.0, 0.4, 1.5);
     int baseline = 0;
     const cv::Size text = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, size, 2, &baseline);
     const cv::Point2d at = to_canvas(centre) - cv::Point2d(text.width / 2.0, -text.height / 2.0);

@@ -22,6 +22,10 @@ struct Detection {
   // right, y up on the print) in units of the marker size. Empty for square markers: their
   // corners, (-0.5, 0.5), (0.5, 0.5), (0.5, -0.5), (-0.5, -0.5).
   std::vector<Vec2> keypoints_marker;
+  // Where the marker lies in the image when its keypoints do not span it (a ring marker's one
+  // keypoint, its centre): a polygon inside which its plane is fitted. Empty: the keypoints'
+  // outline.
+  std::vector<Vec2> outline_px;
   int hamming = 0;             // bits corrected while decoding
   double decision_margin = 0;  // back-end's decoding confidence (AprilTag: mean bit margin)
 };
@@ -30,7 +34,7 @@ struct Detection {
 std::vector<Vec3> marker_frame_keypoints(const Detection& detection, double size);
 
 // The keypoints' outline in the image: the corners of a square marker, the convex hull of a
-// board's keypoints (what the marker plane is fitted inside).
+// board's keypoints, `outline_px` where given (what the marker plane is fitted inside).
 std::vector<Vec2> keypoint_outline(const Detection& detection);
 
 // Options of the AprilTag 3 back-end (libapriltag's detector fields).
@@ -73,9 +77,18 @@ struct ArucoOptions {
   double min_quiet_zone = 0.75;
 };
 
+// Options of the concentric-ring back-end (docs/detectors.md, "Concentric rings").
+struct RingsOptions {
+  int max_hamming = 1;              // data rings to correct (the codes are 3 apart)
+  double min_ring_px = 1.5;         // narrowest ring width (pixels) worth decoding
+  double min_contrast = 0.25;       // white minus black ring means, of the gray scale
+  double min_ring_agreement = 0.8;  // share of a ring's samples on its mean's side of mid-grey
+};
+
 struct DetectorOptions {
   AprilTagOptions apriltag;
   ArucoOptions aruco;
+  RingsOptions rings;
 };
 
 class MarkerDetector {

@@ -3,6 +3,7 @@
 #include "iilfm/sim/marker_texture.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/aruco.hpp>
 #include <opencv2/core.hpp>
 
@@ -10,6 +11,7 @@
 #include "iilfm/aruco_dictionaries.hpp"
 #include "iilfm/charuco_boards.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/rings_family.hpp"
 
 namespace iilfm::sim {
 namespace {
@@ -17,6 +19,10 @@ namespace {
 constexpr const char* kAprilTagPrefix = "apriltag:";
 constexpr const char* kArucoPrefix = "aruco:";
 constexpr const char* kCharucoPrefix = "charuco:";
+constexpr const char* kRingsPrefix = "rings:";
+// Texture cells across one ring of a rings marker: the staircase of the rasterised circles stays
+// under an eighth of a ring width.
+constexpr int kCellsPerRing = 8;
 
 bool has_prefix(const std::string& text, const std::string& prefix) {
   return text.compare(0, prefix.size(), prefix) == 0;
@@ -95,7 +101,33 @@ MarkerTexture charuco_texture(const std::string& family, int id) {
   return texture;
 }
 
+// The rings rasterised at kCellsPerRing cells per ring: a cell is black when its centre is. The
+// marker size is the outer diameter, the sheet adds the white quiet zone around it.
+MarkerTexture rings_texture(const std::string& name, int id) {
+  const RingsFamily& family = find_rings_family(name);
+  check_rings_id(family, id);
+  const int radius = kCellsPerRing * family.annuli();
+  const int quiet = static_cast<int>(std::lround(kRingsQuietZone * radius));
+  MarkerTexture texture;
+  texture.width_at_border = 2 * radius;
+  texture.total_width = 2 * (radius + quiet);
+  const double half = 0.5 * texture.total_width;
+  for (int row = 0; row < texture.total_width; ++row)
+    for (int col = 0; col < texture.total_width; ++col) {
+      const double r = std::hypot(col + 0.5 - half, row + 0.5 - half) / radius;
+      texture.pixels.push_back(family.black_at(id, r) ? 0 : 255);
+    }
+  return texture;
+}
+
 }  // namespace
+
+std::vector<std::string> rings_family_names() {
+  std::vector<std::string> names;
+  for (const RingsFamily& family : rings_families())
+    names.push_back(std::string(kRingsPrefix) + family.name);
+  return names;
+}
 
 std::vector<std::string> apriltag_family_names() {
   std::vector<std::string> names;
@@ -114,6 +146,7 @@ std::vector<std::string> aruco_family_names() {
 std::vector<std::string> marker_family_names() {
   std::vector<std::string> names = apriltag_family_names();
   for (const std::string& name : aruco_family_names()) names.push_back(name);
+  for (const std::string& name : rings_family_names()) names.push_back(name);
   return names;
 }
 
@@ -127,6 +160,8 @@ MarkerTexture render_marker_texture(const std::string& family, int id) {
     if (entry) return aruco_texture(*entry, family, id);
   } else if (has_prefix(family, kCharucoPrefix)) {
     return charuco_texture(family, id);
+  } else if (has_prefix(family, kRingsPrefix)) {
+    return rings_texture(family.substr(std::string(kRingsPrefix).size()), id);
   }
   unknown_family(family);
 }

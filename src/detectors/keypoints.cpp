@@ -21,6 +21,7 @@ std::vector<Vec3> marker_frame_keypoints(const Detection& detection, double size
 }
 
 std::vector<Vec2> keypoint_outline(const Detection& detection) {
+  if (!detection.outline_px.empty()) return detection.outline_px;
   if (detection.keypoints_marker.empty()) return detection.corners_px;
   std::vector<cv::Point2f> points, hull;
   for (const Vec2& p : detection.corners_px)

@@ -8,6 +8,7 @@
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/detector.hpp"
 #include "iilfm/error.hpp"
+#include "rings_detector.hpp"
 
 namespace iilfm {
 
@@ -48,6 +49,11 @@ const std::vector<Backend>& backends() {
          return detail::make_charuco_detector(f, o.aruco);
        },
        detail::charuco_example_families, detail::charuco_layout},
+      {"rings",
+       [](const std::string& f, const DetectorOptions& o) {
+         return detail::make_rings_detector(f, o.rings);
+       },
+       detail::rings_families_names, detail::rings_layout},
   };
   return table;
 }

@@ -12,7 +12,8 @@ namespace {
 
 TEST(TinyImages, NoDetectionAndNoCrashInEveryBackEnd) {
   cv::RNG rng(7);
-  for (const char* family : {"apriltag:tag36h11", "apriltag:tag16h5", "aruco:DICT_4X4_50"}) {
+  for (const char* family :
+       {"apriltag:tag36h11", "apriltag:tag16h5", "aruco:DICT_4X4_50", "rings:ring7h3"}) {
     const auto detector = make_detector(family);
     for (const cv::Size size : {cv::Size(271, 1), cv::Size(1, 271), cv::Size(1, 1), cv::Size(5, 5),
                                 cv::Size(40, 2), cv::Size(2, 40), cv::Size(6, 6)}) {

@@ -60,7 +60,7 @@ std::uint32_t big_endian(const std::string& bytes, std::size_t at) {
 TEST(MarkerPrint, EveryFamilyPrintsAtSizeAndDecodesWithItsId) {
   const double dpi = 150;
   const std::vector<std::string> families = known_families();
-  ASSERT_EQ(families.size(), 34u);  // 9 AprilTag, 21 ArUco, 4 example ChArUco boards
+  ASSERT_EQ(families.size(), 36u);  // 9 AprilTag, 21 ArUco, 4 example ChArUco boards, 2 rings
   for (const std::string& family : families) {
     const bool board = family.rfind("charuco:", 0) == 0;
     const int id = board ? 1 : 5;  // board 1 of DICT_4X4_50:5x7 uses marker ids 17..33
@@ -97,6 +97,21 @@ TEST(MarkerPrint, EveryFamilyPrintsAtSizeAndDecodesWithItsId) {
             ++pairs;
           }
       EXPECT_GT(pairs, 0) << family;
+    } else if (family.rfind("rings:", 0) == 0) {
+      // One keypoint, the centre: the row through it crosses the outer diameter of ink, and the
+      // fitted outline is that diameter wide.
+      const Detection& d = found[0];
+      ASSERT_EQ(d.corners_px.size(), 1u);
+      const int row = static_cast<int>(std::lround(d.corners_px[0].y()));
+      int left = 0, right = image.cols - 1;
+      while (left < image.cols && image.at<std::uint8_t>(row, left) >= 128) ++left;
+      while (right > left && image.at<std::uint8_t>(row, right) >= 128) --right;
+      EXPECT_NEAR(right - left + 1, expected_px, 1.0) << family;
+      EXPECT_NEAR(d.corners_px[0].x(), 0.5 * (left + right), 0.5) << family;
+      double radius = 0;
+      for (const Vec2& p : d.outline_px)
+        radius += (p - d.corners_px[0]).norm() / d.outline_px.size();
+      EXPECT_NEAR(2 * radius, expected_px, 1.5) << family;
     } else {
       // The detector's corners span the reported square (all families, circle ones included).
       EXPECT_NEAR(mean_edge(found[0].corners_px), expected_px, 1.0) << family;

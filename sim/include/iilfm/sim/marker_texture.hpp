@@ -19,7 +19,8 @@ struct MarkerTexture {
 // Renders `id` of a family named "apriltag:<name>" with libapriltag's apriltag_to_image (the
 // tagCircle families with white paper outside their circle, as officially printed), or
 // "aruco:<DICT_...>" with OpenCV's drawMarker (one-cell black border, as the detector expects)
-// inside a one-cell white margin, like apriltag_to_image's tag36h11. InputError for other
+// inside a one-cell white margin, like apriltag_to_image's tag36h11, or "rings:<name>" rasterised
+// finely (width_at_border cells = the outer diameter). InputError for other
 // prefixes, unknown families and ids outside the family.
 MarkerTexture render_marker_texture(const std::string& family, int id);
 
@@ -29,7 +30,10 @@ std::vector<std::string> apriltag_family_names();
 // Names of OpenCV's predefined ArUco dictionaries, with the "aruco:" prefix.
 std::vector<std::string> aruco_family_names();
 
-// Every family the simulator prints: the AprilTag families, then the ArUco dictionaries.
+// Names of the concentric-ring families (include/iilfm/rings_family.hpp), with the "rings:" prefix.
+std::vector<std::string> rings_family_names();
+
+// Every family the simulator prints: the AprilTag families, the ArUco dictionaries, the rings.
 std::vector<std::string> marker_family_names();
 
 }  // namespace iilfm::sim
