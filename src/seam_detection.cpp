@@ -26,12 +26,16 @@ void detect_across_seam(const cv::Mat& image, const ImageGeometry& geometry,
   std::vector<Detection> found;
   for (const auto& detector : detectors) detector->detect(strip, found);
   for (Detection& d : found) {
-    const bool left = std::any_of(d.corners_px.begin(), d.corners_px.end(),
-                                  [&](const Vec2& p) { return p.x() < half - 0.5; });
-    const bool right = std::any_of(d.corners_px.begin(), d.corners_px.end(),
-                                   [&](const Vec2& p) { return p.x() >= half - 0.5; });
+    // Keypoints and outline (a ring marker has one keypoint, its centre, and an outline).
+    std::vector<Vec2*> points;
+    for (Vec2& p : d.corners_px) points.push_back(&p);
+    for (Vec2& p : d.outline_px) points.push_back(&p);
+    const bool left = std::any_of(points.begin(), points.end(),
+                                  [&](const Vec2* p) { return p->x() < half - 0.5; });
+    const bool right = std::any_of(points.begin(), points.end(),
+                                   [&](const Vec2* p) { return p->x() >= half - 0.5; });
     if (!left || !right) continue;  // wholly on one side: the image itself holds it whole
-    for (Vec2& p : d.corners_px) p.x() = image_u(p.x());
+    for (Vec2* p : points) p->x() = image_u(p->x());
     out.push_back(std::move(d));
   }
 }
