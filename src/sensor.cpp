@@ -19,7 +19,8 @@ SensorPreset livox(std::string name, std::string description, double res_deg, do
           v_min,
           v_max,
           40.0,
-          frames};
+          frames,
+          IntensityNormalisation::kNone};
 }
 
 SensorPreset spinning(std::string name, std::string description, int rings, double res_h_deg,
@@ -36,7 +37,8 @@ SensorPreset spinning(std::string name, std::string description, int rings, doub
           v_min,
           v_max,
           threshold,
-          1};
+          1,
+          IntensityNormalisation::kNone};
 }
 
 }  // namespace
