@@ -208,7 +208,8 @@ int run_detect(const DetectArgs& args) {
     if (!args.html_path.empty())
       throw file_error(args.input, "--html needs a point cloud; an image gives --json and --image");
     if (!args.normalise_intensity.empty() && args.normalise_intensity != "none")
-      throw file_error(args.input, "--normalise-intensity needs a point cloud (an image has no range)");
+      throw file_error(args.input,
+                       "--normalise-intensity needs a point cloud (an image has no range)");
     PipelineOptions options;
     std::optional<ResolutionEstimate> none;
     if (!args.sensor.empty() || (args.res_h > 0 && args.res_v > 0)) {

@@ -25,9 +25,9 @@ struct EvalArgs {
   double dark_dropout = 0, invalid_fraction = 0;
   std::vector<std::string> range_sensors;
   std::vector<double> range_sizes;
-  std::vector<double> distances;            // intensity suite
-  std::string intensity_model = "raw";      // intensity suite
-  double near = 0;                          // intensity suite
+  std::vector<double> distances;        // intensity suite
+  std::string intensity_model = "raw";  // intensity suite
+  double near = 0;                      // intensity suite
   bool seeds_given = false;
 };
 
@@ -130,8 +130,7 @@ Runner register_eval_command(CLI::App& app) {
       ->each([&a](const std::string&) { a.seeds_given = true; });
   sub->add_option("--sensors", a.range_sensors, "range: simulated sensors (default: all)");
   sub->add_option("--sizes", a.range_sizes, "range: marker sizes in metres (0.172 0.4 1)");
-  sub->add_option("--distances", a.distances,
-                  "intensity: distances in metres (2 4 8 12)");
+  sub->add_option("--distances", a.distances, "intensity: distances in metres (2 4 8 12)");
   sub->add_option("--near", a.near,
                   "intensity: also a marker this many metres away in every scan (0: none)");
   sub->add_option("--intensity-model", a.intensity_model,

@@ -115,9 +115,8 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     options.title = "iilfm report: " + source->name();
     html.emplace(options);
   }
-  FrameWindow window = args.window_seconds > 0
-                           ? FrameWindow::over_seconds(args.window_seconds)
-                           : FrameWindow(static_cast<std::size_t>(args.frames));
+  FrameWindow window = args.window_seconds > 0 ? FrameWindow::over_seconds(args.window_seconds)
+                                               : FrameWindow(static_cast<std::size_t>(args.frames));
   double first_stamp = 0, last_stamp = 0;
   ProgressBar progress(source->total(), !args.quiet);
   Counts counts;

@@ -86,7 +86,8 @@ void FrameWindow::push(const PointCloud& cloud, const CloudStats& stats, double 
     }
     if (frames_.size() >= 2) {
       const double interval = stamp_s - frames_[frames_.size() - 2].stamp_s;
-      spanned_ = spanned_ || dropped || stamp_s - frames_.front().stamp_s + interval >= seconds_ - kSlack;
+      spanned_ =
+          spanned_ || dropped || stamp_s - frames_.front().stamp_s + interval >= seconds_ - kSlack;
     } else {
       spanned_ = spanned_ || dropped;
     }

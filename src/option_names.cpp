@@ -55,8 +55,8 @@ void set_intensity_normalisation(const std::string& name, PipelineOptions& optio
   else if (name == "range-incidence")
     mode = IntensityNormalisation::kRangeIncidence;
   else
-    throw InputError("--normalise-intensity must be none, range or range-incidence, got '" +
-                     name + "'");
+    throw InputError("--normalise-intensity must be none, range or range-incidence, got '" + name +
+                     "'");
   IntensityNormalisation& current = options.preprocess.normalise.mode;
   if (current == IntensityNormalisation::kNone && mode != IntensityNormalisation::kNone)
     options.preprocess.threshold.reset();  // a fixed threshold was in unnormalised units

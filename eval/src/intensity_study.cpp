@@ -112,8 +112,7 @@ std::vector<IntensityResult> intensity_study(const IntensityQuery& query) {
             static_cast<int>(pipeline.process(empty.scan.cloud).markers.size());
       }
     }
-    for (std::size_t k = 0; k < query.variants.size(); ++k)
-    {
+    for (std::size_t k = 0; k < query.variants.size(); ++k) {
       results[k].found.emplace_back(distance, found[k]);
       results[k].found_near.push_back(near[k]);
       results[k].found_both.push_back(both[k]);
@@ -125,12 +124,14 @@ std::vector<IntensityResult> intensity_study(const IntensityQuery& query) {
 std::string intensity_table_markdown(const IntensityQuery& query,
                                      const std::vector<IntensityResult>& results) {
   char text[160];
-  std::snprintf(text, sizeof text, "%s, %.3g m marker, %s intensity, %d seeds", query.sensor.c_str(),
-                query.marker_size_m, query.intensity_model.c_str(), query.seeds);
+  std::snprintf(text, sizeof text, "%s, %.3g m marker, %s intensity, %d seeds",
+                query.sensor.c_str(), query.marker_size_m, query.intensity_model.c_str(),
+                query.seeds);
   std::string out = text;
   if (query.near_m > 0) {
     std::snprintf(text, sizeof text,
-                  "; a second marker %g m away in every scan: cells read far / near / both", query.near_m);
+                  "; a second marker %g m away in every scan: cells read far / near / both",
+                  query.near_m);
     out += text;
   }
   out += "\n\n";

@@ -1,6 +1,6 @@
 // Preprocessing of the intensity image for visual fiducial detectors (paper Sec. III-C):
-// optional normalisation of the intensity for range and incidence, scaling to 8-bit gray, hole filling for the detector's image only, naive global threshold,
-// optional Gaussian blur.
+// optional normalisation of the intensity for range and incidence, scaling to 8-bit gray, hole
+// filling for the detector's image only, naive global threshold, optional Gaussian blur.
 #pragma once
 
 #include <opencv2/core.hpp>

@@ -264,7 +264,8 @@ class PyPipeline {
     r.copied = in->copied;
     r.original_row = in->original_row;
     r.points = std::move(in);
-    for (const MarkerResult& m : r.frame->markers) r.markers.push_back(marker_of(m, r.frame->image));
+    for (const MarkerResult& m : r.frame->markers)
+      r.markers.push_back(marker_of(m, r.frame->image));
     if (r.frame->pose) r.pose = pose_of(*r.frame->pose);
     return r;
   }

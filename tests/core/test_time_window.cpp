@@ -43,7 +43,7 @@ TEST(TimeWindow, OnePushMayDropSeveralFramesOrNone) {
   const double stamps[] = {0.0, 0.1, 0.2, 0.3, 0.9, 0.95};
   for (int i = 0; i < 4; ++i) window.push(frames[i], {}, stamps[i]);
   EXPECT_EQ(window.size(), 4u);
-  EXPECT_FALSE(window.full());  // 0.3 s + one 0.1 s interval < 0.5 s
+  EXPECT_FALSE(window.full());            // 0.3 s + one 0.1 s interval < 0.5 s
   window.push(frames[4], {}, stamps[4]);  // 0.9: frames at 0.4 or before leave, all four
   EXPECT_EQ(window.size(), 1u);
   EXPECT_TRUE(window.full());

@@ -37,9 +37,9 @@ struct IntensityQuery {
 struct IntensityResult {
   IntensityVariant variant;
   std::vector<std::pair<double, int>> found;  // distance -> seeds with the (far) marker found
-  std::vector<int> found_near, found_both;     // per distance, with near_m
-  int false_positives = 0;  // wrong or extra detections on the marker scans
-  int empty_scene_detections = 0;  // any detection on the same scans without the marker
+  std::vector<int> found_near, found_both;    // per distance, with near_m
+  int false_positives = 0;                    // wrong or extra detections on the marker scans
+  int empty_scene_detections = 0;             // any detection on the same scans without the marker
 };
 
 // Each seed pitches and yaws the LiDAR a little, as the range study does. Every variant sees the
