@@ -119,6 +119,14 @@ TEST(IntensityNormalisationSim, OneImageWithMarkersAt2mAnd8mNeedsNormalisation) 
   EXPECT_EQ(r[4].found_both[0], 3);
 }
 
+TEST(IntensityNormalisationSim, OnlyTheOusterPresetsNormaliseByDefault) {
+  for (const SensorPreset& preset : sensor_presets())
+    EXPECT_EQ(preset.normalise, preset.name.rfind("os", 0) == 0
+                                    ? IntensityNormalisation::kRangeIncidence
+                                    : IntensityNormalisation::kNone)
+        << preset.name;
+}
+
 TEST(IntensityNormalisationSim, NormalisationIsOffWithoutAsking) {
   PipelineOptions options;
   apply_sensor_preset(find_sensor_preset("vlp16"), options);
@@ -149,8 +157,12 @@ TEST(MarkerCoverageSim, GrowsWithIntegrationAndIsInTheJson) {
     const nlohmann::json j = result_to_json(r, InputInfo{});
     EXPECT_NEAR(j["markers"][0]["coverage"].get<double>(), coverage[k], 1e-3);
   }
-  EXPECT_GT(coverage[0], 0.2);
-  EXPECT_GT(coverage[1], coverage[0] + 0.15);
+  std::printf("Mid-40 marker coverage: %.3f after 10 frames, %.3f after 60\n", coverage[0],
+              coverage[1]);
+  // Measured 0.60 and 1.00 (the marker sits at the dense centre of the rosette).
+  EXPECT_GT(coverage[0], 0.4);
+  EXPECT_LT(coverage[0], 0.8);
+  EXPECT_GT(coverage[1], 0.95);
   EXPECT_LE(coverage[1], 1.0);
 
   eval::CaseSpec spec;
@@ -158,11 +170,15 @@ TEST(MarkerCoverageSim, GrowsWithIntegrationAndIsInTheJson) {
   spec.sensor = "os1-128";
   spec.scene_params.distance_m = 3;
   spec.scene_params.marker_size_m = 1.0;
+  // The photon count the OS1 presets normalise (their default).
+  spec.physics.intensity_model = sim::SimOptions::IntensityModel::kRaw;
   const eval::SimulatedCase c = eval::simulate_case(spec, 1);
   Pipeline pipeline(eval::pipeline_options_for(c, LiftMethod::kPlane));
   const FrameResult& r = pipeline.process(c.scan.cloud);
   ASSERT_EQ(r.markers.size(), 1u);
-  EXPECT_GT(marker_coverage(r.markers[0].detection, r.image), 0.97);
+  const double ring_coverage = marker_coverage(r.markers[0].detection, r.image);
+  std::printf("OS1-128 marker coverage: %.3f\n", ring_coverage);
+  EXPECT_GT(ring_coverage, 0.97);
 }
 
 }  // namespace
