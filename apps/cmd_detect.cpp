@@ -39,7 +39,9 @@ struct DetectArgs {
   double max_pose_rms = LidarPoseOptions{}.max_rms_m;
   std::string pose_refine = to_string(LidarPoseOptions{}.refine);
   int frames = 1;
+  double window_seconds = 0;
   std::string threshold;
+  std::string normalise_intensity;  // empty: the preset's
   std::string lift = "plane";
   std::string collision = "mean";
   std::string rows;
@@ -116,6 +118,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   if (args.res_v > 0) options.projection.res_v_deg = args.res_v;
   options.projection.max_pixels = args.max_image_pixels;
 
+  set_intensity_normalisation(args.normalise_intensity, options);  // before --threshold
   set_threshold(args.threshold, options);
   options.preprocess.binarize = !args.gray_input;
   options.preprocess.blur_sigma = args.blur;
@@ -206,6 +209,9 @@ int run_detect(const DetectArgs& args) {
   if (is_image_input(args.input) && std::filesystem::is_regular_file(args.input)) {
     if (!args.html_path.empty())
       throw file_error(args.input, "--html needs a point cloud; an image gives --json and --image");
+    if (!args.normalise_intensity.empty() && args.normalise_intensity != "none")
+      throw file_error(args.input,
+                       "--normalise-intensity needs a point cloud (an image has no range)");
     PipelineOptions options;
     std::optional<ResolutionEstimate> none;
     if (!args.sensor.empty() || (args.res_h > 0 && args.res_v > 0)) {
@@ -216,12 +222,17 @@ int run_detect(const DetectArgs& args) {
       square.res_h = square.res_v = 1;
       options = pipeline_options(square, PointCloud{}, none);
     }
+    // An image has no range: a preset's normalisation does not apply.
+    options.preprocess.normalise.mode = IntensityNormalisation::kNone;
     return run_detect_image({args.input, args.json_path, args.image_path, args.quiet}, options);
   }
   SequenceArgs sequence;
   sequence.input = args.input;
   sequence.topic = args.topic;
   sequence.frames = args.frames;
+  sequence.window_seconds = args.window_seconds;
+  if (args.window_seconds > 0 && args.frames != 1)
+    throw InputError("--frames and --window-seconds are alternatives: give one");
   sequence.jsonl_path = args.jsonl_path;
   sequence.tum_path = args.tum_path;
   sequence.html_path = args.html_path;
@@ -240,6 +251,9 @@ int run_detect(const DetectArgs& args) {
   }
   if (args.html_frame >= 0)
     throw InputError("--html-frame is for sequences (a bag, or a folder with --jsonl or --tum)");
+  if (args.window_seconds > 0)
+    throw InputError(
+        "--window-seconds is for sequences (a bag, or a folder with --jsonl or --tum)");
 
   const auto start = std::chrono::steady_clock::now();
   io::LoadedCloud loaded = load_input(args);
@@ -312,10 +326,18 @@ Runner register_detect_command(CLI::App& app) {
                   "Integrate N frames: a folder alone gives one result for its first N files; "
                   "sequences slide an N-frame window")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--window-seconds", args->window_seconds,
+                  "Sequences: integrate the frames taken less than S seconds before each frame "
+                  "(frame stamps: bag headers, or numeric file names), instead of --frames")
+      ->check(CLI::PositiveNumber);
   cmd->add_option(
       "--threshold", args->threshold,
       "Naive threshold in intensity units, 'otsu', or 'local' (local mean where the image "
       "has contrast; default: the preset's, or Otsu without one)");
+  cmd->add_option("--normalise-intensity", args->normalise_intensity,
+                  "Intensity for range (x (r / 10 m)^2) and angle of incidence before "
+                  "thresholding: none|range|range-incidence (default: the preset's, else none; "
+                  "on, the threshold is Otsu's unless --threshold gives one in normalised units)");
   cmd->add_option("--lift", args->lift, "3-D corners: plane (marker-plane fit, default) or paper");
   cmd->add_option("--collision", args->collision, "Pixel value when points collide: mean|nearest");
   cmd->add_option("--rows", args->rows,

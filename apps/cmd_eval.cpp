@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "eval_range.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/eval/intensity_study.hpp"
 #include "iilfm/eval/report.hpp"
 #include "iilfm/eval/suite.hpp"
 #include "iilfm/option_names.hpp"
@@ -26,6 +27,9 @@ struct EvalArgs {
   double dark_dropout = 0, invalid_fraction = 0;
   std::vector<std::string> range_sensors;
   std::vector<double> range_sizes;
+  std::vector<double> distances;        // intensity suite
+  std::string intensity_model = "raw";  // intensity suite
+  double near = 0;                      // intensity suite
   bool seeds_given = false;
 };
 
@@ -40,6 +44,29 @@ std::vector<LiftMethod> lifts_of(const std::string& name) {
   throw InputError("--lift must be plane, paper or both, got '" + name + "'");
 }
 
+// Thresholds and normalisation per sensor and size on simulated scans (docs/sensors.md).
+int run_intensity_study(const EvalArgs& a) {
+  eval::IntensityQuery query;
+  query.seeds = a.seeds_given ? a.seeds : 10;
+  require(query.seeds >= 1 && query.seeds <= 1000, "--seeds must be 1..1000");
+  query.intensity_model = a.intensity_model;
+  if (!a.distances.empty()) query.distances = a.distances;
+  query.near_m = a.near;
+  const std::vector<std::string> sensors =
+      a.range_sensors.empty() ? std::vector<std::string>{query.sensor} : a.range_sensors;
+  const std::vector<double> sizes =
+      a.range_sizes.empty() ? std::vector<double>{query.marker_size_m} : a.range_sizes;
+  for (const std::string& sensor : sensors) {
+    for (double size : sizes) {
+      query.sensor = sensor;
+      query.marker_size_m = size;
+      std::cout << eval::intensity_table_markdown(query, eval::intensity_study(query)) << "\n"
+                << std::flush;
+    }
+  }
+  return 0;
+}
+
 int run_eval(const EvalArgs& a) {
   if (a.suite == "range") {
     RangeStudyArgs range;
@@ -49,6 +76,7 @@ int run_eval(const EvalArgs& a) {
     range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
     return run_range_study(range);
   }
+  if (a.suite == "intensity") return run_intensity_study(a);
   const std::vector<eval::SuiteSetup> setups = eval::named_suite(a.suite);
   eval::SuiteOptions options;
   options.lifts = lifts_of(a.lift);
@@ -97,14 +125,21 @@ Runner register_eval_command(CLI::App& app) {
       "eval", "Score detection and pose on simulated scans of the paper's experiments");
   sub->add_option("--suite", a.suite,
                   "paper (Tables 1-3 of the paper), quick (one set-up of each table), multi "
-                  "(multi-marker maps) or range "
-                  "(detection range per sensor and marker size, docs/sensors.md)")
+                  "(multi-marker maps), range (detection range per sensor and marker size, "
+                  "docs/sensors.md) or intensity (thresholds and intensity normalisation per "
+                  "sensor, docs/sensors.md)")
       ->capture_default_str();
   sub->add_option("--seeds", a.seeds, "Seeds per set-up (range: 10)")
       ->capture_default_str()
       ->each([&a](const std::string&) { a.seeds_given = true; });
   sub->add_option("--sensors", a.range_sensors, "range: simulated sensors (default: all)");
   sub->add_option("--sizes", a.range_sizes, "range: marker sizes in metres (0.172 0.4 1)");
+  sub->add_option("--distances", a.distances, "intensity: distances in metres (2 4 8 12)");
+  sub->add_option("--near", a.near,
+                  "intensity: also a marker this many metres away in every scan (0: none)");
+  sub->add_option("--intensity-model", a.intensity_model,
+                  "intensity: the simulator's intensity, raw or reflectivity")
+      ->capture_default_str();
   sub->add_option("--first-seed", a.first_seed, "First seed (seeds run consecutively)")
       ->capture_default_str();
   sub->add_option("--lift", a.lift, "Corner lifting: plane, paper or both (same scans)")

@@ -26,7 +26,7 @@ struct SimArgs {
   bool footprint = false;
   int footprint_samples = 5;
   double dark_dropout = 0, invalid_fraction = 0, min_range = -1;
-  std::string invalid_as = "nan";
+  std::string invalid_as = "nan", intensity_model = "reflectivity";
   std::vector<double> lidar_xyz, lidar_rpy, velocity, angular_velocity;
   // Options whose absence means "the scene's default".
   CLI::Option *sensor_opt, *frames_opt, *range_sigma_opt, *intensity_sigma_opt, *min_range_opt,
@@ -70,6 +70,7 @@ sim::PhysicsRequest physics_request(const SimArgs& a) {
   r.dark_dropout = a.dark_dropout;
   r.invalid_fraction = a.invalid_fraction;
   r.invalid_as = a.invalid_as;
+  r.intensity_model = a.intensity_model;
   return r;
 }
 
@@ -187,6 +188,10 @@ Runner register_sim_command(CLI::App& app) {
                   "Share of beams written as invalid points, as drivers emit")
       ->capture_default_str();
   sub->add_option("--invalid-as", a.invalid_as, "Invalid points as nan or zero coordinates")
+      ->capture_default_str();
+  sub->add_option("--intensity-model", a.intensity_model,
+                  "reflectivity (calibrated, as Livox/Velodyne) or raw (x cos(incidence) x "
+                  "(10 m / range)^2, as Ouster's photon count)")
       ->capture_default_str();
   a.min_range_opt = sub->add_option("--min-range", a.min_range,
                                     "Minimum range in metres (default: the sensor's)");

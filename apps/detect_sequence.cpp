@@ -115,7 +115,9 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     options.title = "iilfm report: " + source->name();
     html.emplace(options);
   }
-  FrameWindow window(static_cast<std::size_t>(args.frames));
+  FrameWindow window = args.window_seconds > 0 ? FrameWindow::over_seconds(args.window_seconds)
+                                               : FrameWindow(static_cast<std::size_t>(args.frames));
+  double first_stamp = 0, last_stamp = 0;
   ProgressBar progress(source->total(), !args.quiet);
   Counts counts;
   std::size_t window_first = 0;
@@ -127,9 +129,11 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
       const Clock::time_point start = Clock::now();
       if (!source->next(frame)) break;
       ++counts.frames;
-      window.push(frame.loaded.cloud, frame.loaded.stats);
+      window.push(frame.loaded.cloud, frame.loaded.stats, frame.stamp_s);
+      if (counts.frames == 1) first_stamp = frame.stamp_s;
+      last_stamp = frame.stamp_s;
       window_indices.push_back(frame.index);
-      if (window_indices.size() > window.capacity()) window_indices.erase(window_indices.begin());
+      while (window_indices.size() > window.size()) window_indices.erase(window_indices.begin());
       window_first = window_indices.front();
       if (!window.full()) continue;
 
@@ -156,6 +160,7 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
       line["frame"] = frame.index;
       line["timestamp"] = frame.stamp_s;
       if (window.capacity() > 1) line["window"] = {window_first, frame.index};
+      if (window.seconds() > 0) line["window_frames"] = window.size();
       jsonl.write(line.dump());
       if (html) html->add(line);
       ++counts.results;
@@ -172,6 +177,10 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     throw InputError(std::string(e.what()) + " (" + done + ")");
   }
   progress.finish();
+  if (args.window_seconds > 0 && counts.results == 0)
+    throw file_error(source->name(), "--window-seconds " + std::to_string(args.window_seconds) +
+                                         " but the recording spans " +
+                                         std::to_string(last_stamp - first_stamp) + " s");
   if (counts.frames < static_cast<std::size_t>(args.frames))
     throw file_error(source->name(), "--frames " + std::to_string(args.frames) +
                                          " but the recording holds " +

@@ -13,7 +13,8 @@ namespace iilfm::cli {
 struct SequenceArgs {
   std::string input;  // folder of cloud files, or a bag with `topic`
   std::string topic;
-  int frames = 1;  // integration window, sliding by one frame
+  int frames = 1;             // integration window, sliding by one frame
+  double window_seconds = 0;  // > 0: a time window instead (FrameWindow::over_seconds)
   std::string jsonl_path, tum_path;
   std::string html_path;  // the sequence report (trajectory, per-frame table, one frame in full)
   long html_frame = -1;   // the frame shown in full; -1: the last one with markers

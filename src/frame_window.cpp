@@ -1,6 +1,11 @@
 #include "iilfm/frame_window.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "iilfm/error.hpp"
 
 namespace iilfm {
 namespace {
@@ -21,6 +26,22 @@ void put(std::vector<T>& column, std::size_t at, const std::vector<T>& values) {
 
 FrameWindow::FrameWindow(std::size_t frames) : capacity_(std::max<std::size_t>(frames, 1)) {}
 
+FrameWindow FrameWindow::over_seconds(double seconds) {
+  if (!(seconds > 0) || !std::isfinite(seconds))
+    throw InputError("--window-seconds must be a positive number of seconds, got " +
+                     std::to_string(seconds));
+  FrameWindow window(std::numeric_limits<std::size_t>::max());
+  window.seconds_ = seconds;
+  return window;
+}
+
+void FrameWindow::drop_oldest() {
+  dropped_points_ += frames_.front().points;
+  dropped_total_ += frames_.front().points;
+  begin_ += frames_.front().points;
+  frames_.pop_front();
+}
+
 // Keeps the buffer's live part (the window and the frame dropped last) at its front when the free
 // space behind it runs out, and sizes the buffer to twice the live part: each point is then moved
 // about once per window length, not once per push.
@@ -38,15 +59,12 @@ void FrameWindow::make_room(std::size_t points) {
     for (std::vector<float>* c : columns) c->resize(wanted);
 }
 
-void FrameWindow::push(const PointCloud& cloud, const CloudStats& stats) {
+void FrameWindow::push(const PointCloud& cloud, const CloudStats& stats, double stamp_s) {
+  if (seconds_ > 0 && !std::isfinite(stamp_s))
+    throw InputError("a --window-seconds window needs finite frame stamps");
   ++pushes_;
   dropped_points_ = 0;
-  if (frames_.size() == capacity_) {
-    dropped_points_ = frames_.front().points;
-    dropped_total_ += dropped_points_;
-    begin_ += dropped_points_;
-    frames_.pop_front();
-  }
+  if (frames_.size() == capacity_) drop_oldest();
   const std::size_t n = cloud.size();
   make_room(n);
   put(buffer_.x, end_, cloud.x);
@@ -56,7 +74,24 @@ void FrameWindow::push(const PointCloud& cloud, const CloudStats& stats) {
   put(buffer_.ring, end_, cloud.ring);  // no-op for a frame without rings (then never exposed)
   put(buffer_.time, end_, cloud.time);
   end_ += n;
-  frames_.push_back({n, stats, cloud.has_ring() || n == 0, cloud.has_time() || n == 0});
+  frames_.push_back({n, stats, cloud.has_ring() || n == 0, cloud.has_time() || n == 0, stamp_s});
+  if (seconds_ > 0) {
+    // Tolerance for stamps written in decimal: 10 Hz frames over 1 s are 10 frames, not 11.
+    constexpr double kSlack = 1e-6;
+    const double oldest_kept = stamp_s - seconds_ + kSlack;
+    bool dropped = false;
+    while (frames_.size() > 1 && frames_.front().stamp_s < oldest_kept) {
+      drop_oldest();
+      dropped = true;
+    }
+    if (frames_.size() >= 2) {
+      const double interval = stamp_s - frames_[frames_.size() - 2].stamp_s;
+      spanned_ =
+          spanned_ || dropped || stamp_s - frames_.front().stamp_s + interval >= seconds_ - kSlack;
+    } else {
+      spanned_ = spanned_ || dropped;
+    }
+  }
 }
 
 PointView FrameWindow::view_of(std::size_t begin, std::size_t end) const {

@@ -55,6 +55,24 @@ void set_lift(const std::string& name, PipelineOptions& options) {
   }
 }
 
+void set_intensity_normalisation(const std::string& name, PipelineOptions& options) {
+  if (name.empty()) return;
+  IntensityNormalisation mode;
+  if (name == "none")
+    mode = IntensityNormalisation::kNone;
+  else if (name == "range")
+    mode = IntensityNormalisation::kRange;
+  else if (name == "range-incidence")
+    mode = IntensityNormalisation::kRangeIncidence;
+  else
+    throw InputError("--normalise-intensity must be none, range or range-incidence, got '" + name +
+                     "'");
+  IntensityNormalisation& current = options.preprocess.normalise.mode;
+  if (current == IntensityNormalisation::kNone && mode != IntensityNormalisation::kNone)
+    options.preprocess.threshold.reset();  // a fixed threshold was in unnormalised units
+  current = mode;
+}
+
 void set_threshold(const std::string& text, PipelineOptions& options) {
   if (text.empty()) return;
   if (text == "otsu") {

@@ -118,6 +118,7 @@ void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
   options.projection.rows =
       preset.kind == ScanKind::kSpinning ? RowLayout::kRings : RowLayout::kUniform;
   options.preprocess.threshold = preset.threshold;
+  options.preprocess.normalise.mode = preset.normalise;
 }
 
 Pipeline::Pipeline(PipelineOptions options)

@@ -190,8 +190,13 @@ void binarize(const cv::Mat& filled, const cv::Mat& valid, double threshold, int
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                 PreprocessedImage& out) {
+  const cv::Mat* source = &image.intensity;
+  if (options.normalise.mode != IntensityNormalisation::kNone) {
+    normalise_intensity(image, options.normalise, out.normalise_work, out.normalised);
+    source = &out.normalised;
+  }
   // Hole filling alternates between two reused buffer pairs (a pass reads the previous one).
-  const cv::Mat* values = &image.intensity;
+  const cv::Mat* values = source;
   const cv::Mat* mask = &image.mask;
   for (int pass = 0; options.fill_holes && pass < std::max(1, options.fill_passes); ++pass) {
     PreprocessedImage::Buffers& into = out.work[pass % 2];
@@ -213,7 +218,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   const cv::Mat& filled_mask = *mask;
 
   filled_mask.copyTo(out.valid);
-  out.intensity_scale = robust_max(image.intensity, image.mask);
+  out.intensity_scale = robust_max(*source, image.mask);
   to_gray(filled, filled_mask, out.intensity_scale, options.unobserved_value, out.gray);
 
   out.threshold = options.threshold ? *options.threshold

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <string>
 
+#include "iilfm/marker_coverage.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/pose_covariance.hpp"
 #include "iilfm/report.hpp"
@@ -52,7 +53,7 @@ void add_uncertainty(json& out, const Isometry3& T, const Mat6& C) {
   out["std_rpy_deg"] = vec_json(rpy_std_deg(T, C), 1e-5);
 }
 
-json marker_json(const MarkerResult& m) {
+json marker_json(const MarkerResult& m, const ProjectedImage& image) {
   json corners_px = json::array(), corners_lidar = json::array(), observed = json::array(),
        status = json::array();
   for (const Vec2& px : m.detection.corners_px)
@@ -71,7 +72,9 @@ json marker_json(const MarkerResult& m) {
               {"corner_status", status},
               {"hamming", m.detection.hamming},
               {"decision_margin", round_to(m.detection.decision_margin, 1e-3)},
-              {"in_map", m.in_map}};
+              {"in_map", m.in_map},
+              // Share of the marker's pixels that hold a point (before hole filling).
+              {"coverage", round_to(marker_coverage(m.detection, image), 1e-3)}};
   if (m.T_lidar_marker) {
     out["T_lidar_marker"] = matrix_json(*m.T_lidar_marker);
     out["marker_fit_rms_m"] = round_to(m.marker_fit_rms, 1e-6);
@@ -104,7 +107,7 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
     out["image"]["detector_height"] = result.preprocessed.geometry.height;  // square pixels
   }
   json markers = json::array();
-  for (const MarkerResult& m : result.markers) markers.push_back(marker_json(m));
+  for (const MarkerResult& m : result.markers) markers.push_back(marker_json(m, result.image));
   out["markers"] = markers;
   if (result.pose) {
     const LidarPose& p = *result.pose;

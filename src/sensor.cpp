@@ -19,7 +19,8 @@ SensorPreset livox(std::string name, std::string description, double res_deg, do
           v_min,
           v_max,
           40.0,
-          frames};
+          frames,
+          IntensityNormalisation::kNone};
 }
 
 SensorPreset spinning(std::string name, std::string description, int rings, double res_h_deg,
@@ -36,7 +37,19 @@ SensorPreset spinning(std::string name, std::string description, int rings, doub
           v_min,
           v_max,
           threshold,
-          1};
+          1,
+          IntensityNormalisation::kNone};
+}
+
+// Ouster's `intensity` field (the one the readers take) is the return's photon count, which falls
+// with range and incidence: normalised, with Otsu's threshold (docs/sensors.md, measured with
+// `iilfm eval --suite intensity`).
+SensorPreset ouster(std::string name, std::string description, int rings, double res_h_deg,
+                    double ring_spacing_deg, double v_min, double v_max) {
+  SensorPreset p = spinning(std::move(name), std::move(description), rings, res_h_deg,
+                            ring_spacing_deg, v_min, v_max, std::nullopt);
+  p.normalise = IntensityNormalisation::kRangeIncidence;
+  return p;
 }
 
 }  // namespace
@@ -72,24 +85,24 @@ const std::vector<SensorPreset>& sensor_presets() {
                10.67, 40.0),
       spinning("hdl64e", "Velodyne HDL-64E (64 rings, about 0.4 deg, 10 Hz)", 64, 0.17, 0.4, -24.9,
                2, 40.0),
-      spinning("os0-32", "Ouster OS0-32 (32 rings over 90 deg, 1024 columns)", 32, kOuster1024,
-               90.0 / 31, -45, 45, std::nullopt),
-      spinning("os0-64", "Ouster OS0-64 (64 rings over 90 deg, 1024 columns)", 64, kOuster1024,
-               90.0 / 63, -45, 45, std::nullopt),
-      spinning("os0-128", "Ouster OS0-128 (128 rings over 90 deg, 1024 columns)", 128, kOuster1024,
-               90.0 / 127, -45, 45, std::nullopt),
-      spinning("os1-32", "Ouster OS1-32 (32 rings over 45 deg, 1024 columns)", 32, kOuster1024,
-               45.0 / 31, -22.5, 22.5, std::nullopt),
-      spinning("os1-64", "Ouster OS1-64 (64 rings over 45 deg, 1024 columns)", 64, kOuster1024,
-               45.0 / 63, -22.5, 22.5, std::nullopt),
-      spinning("os1-128", "Ouster OS1-128 (128 rings over 45 deg, 1024 columns)", 128, kOuster1024,
-               45.0 / 127, -22.5, 22.5, std::nullopt),
-      spinning("os2-32", "Ouster OS2-32 (32 rings over 22.5 deg, 1024 columns)", 32, kOuster1024,
-               22.5 / 31, -11.25, 11.25, std::nullopt),
-      spinning("os2-64", "Ouster OS2-64 (64 rings over 22.5 deg, 1024 columns)", 64, kOuster1024,
-               22.5 / 63, -11.25, 11.25, std::nullopt),
-      spinning("os2-128", "Ouster OS2-128 (128 rings over 22.5 deg, 1024 columns)", 128,
-               kOuster1024, 22.5 / 127, -11.25, 11.25, std::nullopt),
+      ouster("os0-32", "Ouster OS0-32 (32 rings over 90 deg, 1024 columns)", 32, kOuster1024,
+             90.0 / 31, -45, 45),
+      ouster("os0-64", "Ouster OS0-64 (64 rings over 90 deg, 1024 columns)", 64, kOuster1024,
+             90.0 / 63, -45, 45),
+      ouster("os0-128", "Ouster OS0-128 (128 rings over 90 deg, 1024 columns)", 128, kOuster1024,
+             90.0 / 127, -45, 45),
+      ouster("os1-32", "Ouster OS1-32 (32 rings over 45 deg, 1024 columns)", 32, kOuster1024,
+             45.0 / 31, -22.5, 22.5),
+      ouster("os1-64", "Ouster OS1-64 (64 rings over 45 deg, 1024 columns)", 64, kOuster1024,
+             45.0 / 63, -22.5, 22.5),
+      ouster("os1-128", "Ouster OS1-128 (128 rings over 45 deg, 1024 columns)", 128, kOuster1024,
+             45.0 / 127, -22.5, 22.5),
+      ouster("os2-32", "Ouster OS2-32 (32 rings over 22.5 deg, 1024 columns)", 32, kOuster1024,
+             22.5 / 31, -11.25, 11.25),
+      ouster("os2-64", "Ouster OS2-64 (64 rings over 22.5 deg, 1024 columns)", 64, kOuster1024,
+             22.5 / 63, -11.25, 11.25),
+      ouster("os2-128", "Ouster OS2-128 (128 rings over 22.5 deg, 1024 columns)", 128, kOuster1024,
+             22.5 / 127, -11.25, 11.25),
       spinning("pandar40p", "Hesai Pandar40P (40 non-uniform rings, 0.33 deg finest, 10 Hz)", 40,
                0.2, 0.33, -25, 15, 100.0),
       spinning("pandar64", "Hesai Pandar64 (64 rings, 0.167 deg in the dense band, 10 Hz)", 64, 0.2,

@@ -25,6 +25,11 @@ void set_rows(const std::string& name, PipelineOptions& options);
 // --lift: "plane" or "paper" (the paper's four corners as lifted, no known-size square).
 void set_lift(const std::string& name, PipelineOptions& options);
 
+// --normalise-intensity: "none", "range" or "range-incidence"; empty keeps the current mode.
+// Switching normalisation on also switches a fixed threshold (a preset's, in the sensor's own
+// units) to Otsu's; a --threshold applied afterwards is taken in normalised units.
+void set_intensity_normalisation(const std::string& name, PipelineOptions& options);
+
 // --threshold as text: a number in intensity units, "otsu" or "local" (local mean where the image
 // has contrast, the preset's or Otsu's threshold elsewhere); empty keeps the current one.
 void set_threshold(const std::string& text, PipelineOptions& options);

@@ -89,7 +89,7 @@ struct FrameResult {
   StageTimes times_ms;
 };
 
-// Sets the preset's image resolution, field of view and naive threshold.
+// Sets the preset's image resolution, field of view, naive threshold and intensity normalisation.
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options);
 
 class Pipeline {

@@ -1,16 +1,20 @@
 // Preprocessing of the intensity image for visual fiducial detectors (paper Sec. III-C):
-// normalisation to 8-bit gray, hole filling for the detector's image only, naive global threshold,
-// optional Gaussian blur.
+// optional normalisation of the intensity for range and incidence, scaling to 8-bit gray, hole
+// filling for the detector's image only, naive global threshold, optional Gaussian blur.
 #pragma once
 
 #include <opencv2/core.hpp>
 #include <optional>
 
+#include "iilfm/intensity_normalisation.hpp"
 #include "iilfm/projection.hpp"
 
 namespace iilfm {
 
 struct PreprocessOptions {
+  // Intensity for range and incidence before anything else (intensity_normalisation.hpp); the
+  // threshold is then in normalised units. Off: no pass, no cost.
+  NormalisationOptions normalise;
   // Naive threshold in the cloud's intensity units; unset = Otsu's threshold over observed pixels.
   std::optional<double> threshold;
   // Local threshold (`--threshold local`): a pixel is white when brighter than the mean of the
@@ -49,6 +53,8 @@ struct PreprocessedImage {
     cv::Mat values, mask;
   };
   Buffers work[2];
+  cv::Mat normalised;  // the normalised intensity (when normalisation is on)
+  NormalisationBuffers normalise_work;
 };
 
 // Fills `out`, reusing its buffers.

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "iilfm/intensity_normalisation.hpp"
+
 namespace iilfm {
 
 enum class ScanKind {
@@ -28,6 +30,8 @@ struct SensorPreset {
   // sensors whose intensity scale is not a calibrated reflectivity.
   std::optional<double> threshold;
   int frames = 1;  // frames to integrate for a usable image (`--frames` for sequences)
+  // Intensity normalisation for sensors whose intensity falls with range (docs/sensors.md).
+  IntensityNormalisation normalise = IntensityNormalisation::kNone;
 };
 
 // All presets, in the order `iilfm sensors` lists them.

@@ -62,6 +62,9 @@ class Marker:
     def decision_margin(self) -> float: ...
     @property
     def in_map(self) -> bool: ...
+    @property
+    def coverage(self) -> float:
+        """Share of the marker's image pixels holding a point (before hole filling)."""
 
 class Pose:
     """The LiDAR's pose in the world."""
@@ -152,6 +155,7 @@ class Pipeline:
         aruco_window_max: int = 23,
         aruco_window_step: int = 10,
         pose_refine: str = "none",
+        normalise_intensity: str = "",
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""
@@ -190,5 +194,6 @@ def simulate(
     out: str | PathLike[str] | None = None,
     map: str | PathLike[str] | None = None,
     truth: str | PathLike[str] | None = None,
+    intensity_model: str = "reflectivity",
 ) -> tuple[Cloud, dict[str, object]]:
     """Simulates a scan as `iilfm sim` does; returns (cloud, ground truth)."""

@@ -10,6 +10,7 @@
 #include "bindings.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/frame_window.hpp"
+#include "iilfm/marker_coverage.hpp"
 #include "iilfm/option_names.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/pose.hpp"
@@ -28,6 +29,7 @@ struct Options {
   std::optional<std::string> map;
   std::optional<double> res_h, res_v, marker_size;
   py::object threshold;
+  std::string normalise_intensity;  // empty: the preset's
   std::string lift = "plane", collision = "mean", aruco_refine = "contour";
   std::string pose_refine = to_string(LidarPoseOptions{}.refine);
   double blur = 0;
@@ -54,6 +56,7 @@ PipelineOptions pipeline_options(const Options& a) {
   if (a.res_h && *a.res_h > 0) options.projection.res_h_deg = *a.res_h;
   if (a.res_v && *a.res_v > 0) options.projection.res_v_deg = *a.res_v;
 
+  set_intensity_normalisation(a.normalise_intensity, options);  // before the threshold
   if (py::isinstance<py::str>(a.threshold)) {
     set_threshold(a.threshold.cast<std::string>(), options);
   } else if (!a.threshold.is_none()) {
@@ -110,7 +113,7 @@ struct Marker {
   std::string family;
   int id = 0;
   py::object corners_px, corners_lidar, observed, T_lidar_marker;
-  double marker_fit_rms = 0, decision_margin = 0;
+  double marker_fit_rms = 0, decision_margin = 0, coverage = 0;
   int hamming = 0;
   bool in_map = false;
 };
@@ -133,7 +136,7 @@ struct Result {
   std::optional<Pose> pose;
 };
 
-Marker marker_of(const MarkerResult& m) {
+Marker marker_of(const MarkerResult& m, const ProjectedImage& image) {
   Marker out;
   out.family = m.detection.family;
   out.id = m.detection.id;
@@ -160,6 +163,7 @@ Marker marker_of(const MarkerResult& m) {
   out.decision_margin = m.detection.decision_margin;
   out.hamming = m.detection.hamming;
   out.in_map = m.in_map;
+  out.coverage = marker_coverage(m.detection, image);
   return out;
 }
 
@@ -262,7 +266,8 @@ class PyPipeline {
     r.copied = in->copied;
     r.original_row = in->original_row;
     r.points = std::move(in);
-    for (const MarkerResult& m : r.frame->markers) r.markers.push_back(marker_of(m));
+    for (const MarkerResult& m : r.frame->markers)
+      r.markers.push_back(marker_of(m, r.frame->image));
     if (r.frame->pose) r.pose = pose_of(*r.frame->pose);
     return r;
   }
@@ -312,6 +317,8 @@ void register_pipeline(py::module_& m) {
       .def_readonly("hamming", &Marker::hamming, "bits corrected while decoding")
       .def_readonly("decision_margin", &Marker::decision_margin, "decoder's confidence")
       .def_readonly("in_map", &Marker::in_map, "the marker is in the marker map")
+      .def_readonly("coverage", &Marker::coverage,
+                    "share of the marker's image pixels holding a point (before hole filling)")
       .def("__repr__", [](const Marker& mk) {
         return "<iilfm.Marker " + mk.family + " id " + std::to_string(mk.id) + ">";
       });
@@ -456,7 +463,8 @@ void register_pipeline(py::module_& m) {
                        py::object threshold, std::string lift, std::string collision, double blur,
                        bool gray, float decimate, float quad_sigma, bool refine_edges, int threads,
                        int max_hamming, std::string aruco_refine, int aruco_window_min,
-                       int aruco_window_max, int aruco_window_step, std::string pose_refine) {
+                       int aruco_window_max, int aruco_window_step, std::string pose_refine,
+                       std::string normalise_intensity) {
              Options o;
              o.sensor = std::move(sensor);
              o.markers = std::move(markers);
@@ -479,6 +487,7 @@ void register_pipeline(py::module_& m) {
              o.aruco_window_max = aruco_window_max;
              o.aruco_window_step = aruco_window_step;
              o.pose_refine = std::move(pose_refine);
+             o.normalise_intensity = std::move(normalise_intensity);
              return std::make_unique<PyPipeline>(o);
            }),
            py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
@@ -492,6 +501,7 @@ void register_pipeline(py::module_& m) {
            py::arg("aruco_window_max") = ArucoOptions{}.window_max,
            py::arg("aruco_window_step") = ArucoOptions{}.window_step,
            py::arg("pose_refine") = to_string(LidarPoseOptions{}.refine),
+           py::arg("normalise_intensity") = "",
            "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
            "neither, the resolution is estimated from the first cloud detected (as `iilfm "
            "detect` does without --sensor) and kept for later frames (see resolution).\n"
@@ -499,7 +509,8 @@ void register_pipeline(py::module_& m) {
            "(default apriltag:tag36h11).\n"
            "map: marker map YAML path; enables the LiDAR pose.\n"
            "Other keywords are `iilfm detect`'s options with '-' as '_' (threshold: number or "
-           "'otsu'; refine_edges=False is --no-refine-edges; gray=True is --gray).\n"
+           "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
+           "refine_edges=False is --no-refine-edges; gray=True is --gray).\n"
            "Raises InputError with the program's message for bad options, presets or maps.")
       .def("detect", &PyPipeline::detect, py::arg("points"),
            "Runs every stage on one frame. points: an (N, >=4) array of x, y, z, intensity[, ...] "

@@ -35,7 +35,7 @@ struct SimArgs {
   double angle_sigma = 0, dark_dropout = 0, invalid_fraction = 0;
   bool footprint = false;
   int footprint_samples = 5;
-  std::string invalid_as = "nan";
+  std::string invalid_as = "nan", intensity_model = "reflectivity";
   std::optional<std::vector<double>> lidar_xyz, lidar_rpy;
 };
 
@@ -123,6 +123,7 @@ py::tuple simulate(const SimArgs& a) {
   physics.dark_dropout = a.dark_dropout;
   physics.invalid_fraction = a.invalid_fraction;
   physics.invalid_as = a.invalid_as;
+  physics.intensity_model = a.intensity_model;
   sim::apply_physics(physics, options);
 
   sim::SimResult result;
@@ -153,7 +154,7 @@ void register_simulate(py::module_& m) {
          double invalid_fraction, std::string invalid_as, std::optional<double> min_range,
          std::optional<std::vector<double>> lidar_xyz, std::optional<std::vector<double>> lidar_rpy,
          std::optional<std::filesystem::path> out, std::optional<std::filesystem::path> map,
-         std::optional<std::filesystem::path> truth) {
+         std::optional<std::filesystem::path> truth, std::string intensity_model) {
         SimArgs a;
         a.scene = std::move(scene);
         auto text = [](const std::optional<std::filesystem::path>& p) {
@@ -181,6 +182,7 @@ void register_simulate(py::module_& m) {
         a.out = text(out);
         a.map = text(map);
         a.truth = text(truth);
+        a.intensity_model = std::move(intensity_model);
         return simulate(a);
       },
       py::kw_only(), py::arg("scene") = "tag-wall", py::arg("scene_file") = py::none(),
@@ -193,6 +195,7 @@ void register_simulate(py::module_& m) {
       py::arg("invalid_as") = "nan", py::arg("min_range") = py::none(),
       py::arg("lidar_xyz") = py::none(), py::arg("lidar_rpy") = py::none(),
       py::arg("out") = py::none(), py::arg("map") = py::none(), py::arg("truth") = py::none(),
+      py::arg("intensity_model") = "reflectivity",
       "Simulates a LiDAR scan of a scene, as `iilfm sim` does (same keywords with '-' as '_').\n"
       "Returns (cloud, truth): an iilfm.Cloud in the LiDAR frame and the ground truth as a dict\n"
       "(T_world_lidar and each marker's corners_world / corners_lidar (4, 3), T_lidar_marker).\n"

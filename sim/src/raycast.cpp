@@ -14,8 +14,11 @@ constexpr double kFlushTolerance = 1e-6;
 
 }  // namespace
 
-SceneRaycaster::SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_world)
-    : white_(scene.white_intensity), black_(scene.black_intensity) {
+SceneRaycaster::SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_world,
+                               double raw_reference_m)
+    : white_(scene.white_intensity),
+      black_(scene.black_intensity),
+      raw_reference_m_(raw_reference_m) {
   auto to_lidar = [&](const Isometry3& T_world_local, double width, double height) {
     const Isometry3 T = T_lidar_world * T_world_local;
     Rectangle r;
@@ -84,11 +87,13 @@ bool SceneRaycaster::on_black_cell(const Sheet& sheet, double local_x, double lo
 bool SceneRaycaster::cast_from(const Vec3& origin, const Vec3& direction, RayHit* hit) const {
   const bool at_origin = origin.isZero(0);
   double best = INFINITY, range, lx, ly;
+  double cos_incidence = 1;
   bool found = false;
   for (std::size_t i = 0; i < walls_.size(); ++i) {
     if (intersect(walls_[i], origin, direction, false, &range, &lx, &ly) && range < best) {
       best = range;
       hit->intensity = wall_reflectivity_[i];
+      cos_incidence = std::abs(walls_[i].normal.dot(direction));
       found = true;
     }
   }
@@ -106,10 +111,15 @@ bool SceneRaycaster::cast_from(const Vec3& origin, const Vec3& direction, RayHit
       hit->marker = static_cast<int>(i);
       hit->in_black_square =
           std::abs(lx) <= sheet.half_black_m && std::abs(ly) <= sheet.half_black_m;
+      cos_incidence = std::abs(sheet.rect.normal.dot(direction));
       found = true;
     }
   }
   hit->range = best;
+  if (found && raw_reference_m_ > 0) {
+    const double falloff = raw_reference_m_ / best;
+    hit->intensity = static_cast<float>(hit->intensity * cos_incidence * falloff * falloff);
+  }
   return found;
 }
 

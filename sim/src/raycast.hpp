@@ -21,7 +21,9 @@ struct RayHit {
 class SceneRaycaster {
  public:
   // Renders each distinct (family, id) once. InputError for markers the simulator cannot print.
-  SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_world);
+  // With `raw_reference_m` > 0 a hit's intensity is the raw return strength, reflectivity x
+  // cos(incidence) x (raw_reference_m / range)^2 (SimOptions::IntensityModel::kRaw).
+  SceneRaycaster(const Scene& scene, const Isometry3& T_lidar_world, double raw_reference_m = 0);
 
   // Nearest surface along `direction` (unit, LiDAR frame) from the LiDAR origin; false if none.
   bool cast(const Vec3& direction, RayHit* hit) const {
@@ -56,6 +58,7 @@ class SceneRaycaster {
   std::vector<Sheet> sheets_;
   std::vector<MarkerTexture> textures_;
   float white_ = 0, black_ = 0;
+  double raw_reference_m_ = 0;
 };
 
 }  // namespace iilfm::sim

@@ -38,6 +38,10 @@ void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOption
     throw InputError("footprint needs at least one sub-ray, got " +
                      std::to_string(options.footprint_samples));
   }
+  if (options.intensity_model == SimOptions::IntensityModel::kRaw &&
+      !(options.raw_reference_m > 0 && std::isfinite(options.raw_reference_m))) {
+    throw InputError("raw intensity needs a positive reference range");
+  }
   if (!probability(options.dark_dropout) || !probability(options.invalid_fraction)) {
     throw InputError("dark dropout and invalid fraction must be probabilities in [0, 1]");
   }
@@ -152,7 +156,9 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
   const bool spinning = sensor.pattern == ScanPattern::kSpinning;
   const bool moving = !options.linear_velocity.isZero(0) || !options.angular_velocity.isZero(0);
 
-  const SceneRaycaster raycaster(scene, options.T_world_lidar.inverse());
+  const bool raw = options.intensity_model == SimOptions::IntensityModel::kRaw;
+  const SceneRaycaster raycaster(scene, options.T_world_lidar.inverse(),
+                                 raw ? options.raw_reference_m : 0.0);
   std::optional<BeamFootprint> footprint;
   if (options.footprint) footprint.emplace(sensor, options.footprint_samples);
   NormalSampler normal(options.seed);

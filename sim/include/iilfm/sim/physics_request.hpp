@@ -15,7 +15,8 @@ struct PhysicsRequest {
   bool footprint = false;
   int footprint_samples = 5;
   double dark_dropout = 0, invalid_fraction = 0;
-  std::string invalid_as = "nan";  // "nan" or "zero"
+  std::string invalid_as = "nan";                // "nan" or "zero"
+  std::string intensity_model = "reflectivity";  // or "raw" (SimOptions::IntensityModel)
 };
 
 // Checks `request` and copies it into `options`; InputError naming the flag otherwise.

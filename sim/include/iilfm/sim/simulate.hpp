@@ -31,6 +31,13 @@ struct SimOptions {
   // Probability that a return is lost when its whole footprint lies on black print (scaled by the
   // black fraction of the footprint): dark, absorbing ink returns too little light.
   double dark_dropout = 0;
+  // How a return's intensity is formed. kReflectivity: the surface's reflectivity whatever the
+  // range and angle, as sensors reporting calibrated reflectivity give it (Livox, Velodyne).
+  // kRaw: the strength of the return, as a photon count (Ouster's `intensity`) falls off:
+  // reflectivity x cos(incidence) x (raw_reference_m / range)^2, equal to the reflectivity
+  // head-on at raw_reference_m (no near-field loss, no saturation). Noise is added after.
+  enum class IntensityModel { kReflectivity, kRaw } intensity_model = IntensityModel::kReflectivity;
+  double raw_reference_m = 10;
   double min_range_m = -1;  // < 0: the sensor's; returns closer than this are dropped
   // Fraction of beams written as invalid points, as drivers of organised clouds emit for lost
   // returns: NaN coordinates or (0, 0, 0), intensity 0.

@@ -1,0 +1,49 @@
+#include "iilfm/marker_coverage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace iilfm {
+
+double marker_coverage(const Detection& detection, const ProjectedImage& image) {
+  const std::vector<Vec2> outline = keypoint_outline(detection);
+  if (outline.size() < 3 || image.mask.empty()) return 0;
+  double u_min = outline[0].x(), u_max = u_min, v_min = outline[0].y(), v_max = v_min;
+  double area = 0;  // twice the signed area: its sign says which way the outline turns
+  for (std::size_t k = 0; k < outline.size(); ++k) {
+    const Vec2& a = outline[k];
+    const Vec2& b = outline[(k + 1) % outline.size()];
+    u_min = std::min(u_min, a.x());
+    u_max = std::max(u_max, a.x());
+    v_min = std::min(v_min, a.y());
+    v_max = std::max(v_max, a.y());
+    area += a.x() * b.y() - a.y() * b.x();
+  }
+  const double turn = area >= 0 ? 1.0 : -1.0;
+  const int c0 = std::max(0, static_cast<int>(std::ceil(u_min)));
+  const int c1 = std::min(image.mask.cols - 1, static_cast<int>(std::floor(u_max)));
+  const int r0 = std::max(0, static_cast<int>(std::ceil(v_min)));
+  const int r1 = std::min(image.mask.rows - 1, static_cast<int>(std::floor(v_max)));
+  std::size_t inside = 0, observed = 0;
+  for (int r = r0; r <= r1; ++r) {
+    const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
+    for (int c = c0; c <= c1; ++c) {
+      // Inside a convex outline: on the inner side of every edge.
+      bool in = true;
+      for (std::size_t k = 0; k < outline.size() && in; ++k) {
+        const Vec2& a = outline[k];
+        const Vec2& b = outline[(k + 1) % outline.size()];
+        const double cross = (b.x() - a.x()) * (r - a.y()) - (b.y() - a.y()) * (c - a.x());
+        in = cross * turn >= 0;
+      }
+      if (!in) continue;
+      ++inside;
+      observed += m[c] ? 1 : 0;
+    }
+  }
+  return inside ? static_cast<double>(observed) / static_cast<double>(inside) : 0.0;
+}
+
+}  // namespace iilfm
