@@ -26,7 +26,7 @@ struct SimArgs {
   bool footprint = false;
   int footprint_samples = 5;
   double dark_dropout = 0, invalid_fraction = 0, min_range = -1;
-  std::string invalid_as = "nan", intensity_model = "reflectivity";
+  std::string invalid_as = "nan", intensity_model = "sensor";
   std::vector<double> lidar_xyz, lidar_rpy, velocity, angular_velocity;
   // Options whose absence means "the scene's default".
   CLI::Option *sensor_opt, *frames_opt, *range_sigma_opt, *intensity_sigma_opt, *min_range_opt,
@@ -190,6 +190,7 @@ Runner register_sim_command(CLI::App& app) {
   sub->add_option("--invalid-as", a.invalid_as, "Invalid points as nan or zero coordinates")
       ->capture_default_str();
   sub->add_option("--intensity-model", a.intensity_model,
+                  "sensor (the model's own: raw for Ouster, reflectivity otherwise), "
                   "reflectivity (calibrated, as Livox/Velodyne) or raw (x cos(incidence) x "
                   "(10 m / range)^2, as Ouster's photon count)")
       ->capture_default_str();

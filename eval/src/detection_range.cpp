@@ -40,10 +40,8 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
     spec.scene_params.marker_size_m = query.marker_size_m;
     spec.scene_params.family = query.family;
     spec.physics.footprint = query.footprint;
-    // A preset that normalises intensity expects the sensor's raw return strength (Ouster).
-    for (const SensorPreset& preset : sensor_presets())
-      if (preset.name == query.sensor && preset.normalise != IntensityNormalisation::kNone)
-        spec.physics.intensity_model = sim::SimOptions::IntensityModel::kRaw;
+    // The sensor's own intensity (SimOptions::IntensityModel::kSensor): raw for the Ouster
+    // models, whose presets normalise it.
     std::vector<int> found(settings.size(), 0);
     bool any_running = false;
     for (std::size_t k = 0; k < settings.size(); ++k) any_running |= !done(k);

@@ -194,6 +194,6 @@ def simulate(
     out: str | PathLike[str] | None = None,
     map: str | PathLike[str] | None = None,
     truth: str | PathLike[str] | None = None,
-    intensity_model: str = "reflectivity",
+    intensity_model: str = "sensor",
 ) -> tuple[Cloud, dict[str, object]]:
     """Simulates a scan as `iilfm sim` does; returns (cloud, ground truth)."""

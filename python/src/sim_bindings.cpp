@@ -35,7 +35,7 @@ struct SimArgs {
   double angle_sigma = 0, dark_dropout = 0, invalid_fraction = 0;
   bool footprint = false;
   int footprint_samples = 5;
-  std::string invalid_as = "nan", intensity_model = "reflectivity";
+  std::string invalid_as = "nan", intensity_model = "sensor";
   std::optional<std::vector<double>> lidar_xyz, lidar_rpy;
 };
 
@@ -195,7 +195,7 @@ void register_simulate(py::module_& m) {
       py::arg("invalid_as") = "nan", py::arg("min_range") = py::none(),
       py::arg("lidar_xyz") = py::none(), py::arg("lidar_rpy") = py::none(),
       py::arg("out") = py::none(), py::arg("map") = py::none(), py::arg("truth") = py::none(),
-      py::arg("intensity_model") = "reflectivity",
+      py::arg("intensity_model") = "sensor",
       "Simulates a LiDAR scan of a scene, as `iilfm sim` does (same keywords with '-' as '_').\n"
       "Returns (cloud, truth): an iilfm.Cloud in the LiDAR frame and the ground truth as a dict\n"
       "(T_world_lidar and each marker's corners_world / corners_lidar (4, 3), T_lidar_marker).\n"

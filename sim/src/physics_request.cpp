@@ -38,10 +38,13 @@ void apply_physics(const PhysicsRequest& r, SimOptions& options) {
   require(r.invalid_as == "nan" || r.invalid_as == "zero", "--invalid-as must be nan or zero");
   options.invalid_as =
       r.invalid_as == "nan" ? SimOptions::Invalid::kNaN : SimOptions::Invalid::kZero;
-  require(r.intensity_model == "reflectivity" || r.intensity_model == "raw",
-          "--intensity-model must be reflectivity or raw");
+  require(r.intensity_model == "sensor" || r.intensity_model == "reflectivity" ||
+              r.intensity_model == "raw",
+          "--intensity-model must be sensor, reflectivity or raw");
   options.intensity_model = r.intensity_model == "raw" ? SimOptions::IntensityModel::kRaw
-                                                       : SimOptions::IntensityModel::kReflectivity;
+                            : r.intensity_model == "reflectivity"
+                                ? SimOptions::IntensityModel::kReflectivity
+                                : SimOptions::IntensityModel::kSensor;
   if (r.min_range_m) {
     require(*r.min_range_m >= 0 && std::isfinite(*r.min_range_m),
             "--min-range must be a non-negative number of metres");

@@ -54,6 +54,7 @@ SensorModel os1(const std::string& name, int rings, int columns) {
   s.min_range_m = 0.3;
   s.max_range_m = 120;
   s.divergence_h_deg = s.divergence_v_deg = kOusterDivergenceDeg;
+  s.raw_intensity = true;  // the `intensity` field is the signal's photon count
   return s;
 }
 

@@ -38,7 +38,7 @@ void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOption
     throw InputError("footprint needs at least one sub-ray, got " +
                      std::to_string(options.footprint_samples));
   }
-  if (options.intensity_model == SimOptions::IntensityModel::kRaw &&
+  if (options.intensity_model != SimOptions::IntensityModel::kReflectivity &&
       !(options.raw_reference_m > 0 && std::isfinite(options.raw_reference_m))) {
     throw InputError("raw intensity needs a positive reference range");
   }
@@ -156,7 +156,9 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
   const bool spinning = sensor.pattern == ScanPattern::kSpinning;
   const bool moving = !options.linear_velocity.isZero(0) || !options.angular_velocity.isZero(0);
 
-  const bool raw = options.intensity_model == SimOptions::IntensityModel::kRaw;
+  const bool raw =
+      options.intensity_model == SimOptions::IntensityModel::kRaw ||
+      (options.intensity_model == SimOptions::IntensityModel::kSensor && sensor.raw_intensity);
   const SceneRaycaster raycaster(scene, options.T_world_lidar.inverse(),
                                  raw ? options.raw_reference_m : 0.0);
   std::optional<BeamFootprint> footprint;

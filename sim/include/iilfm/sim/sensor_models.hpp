@@ -19,6 +19,9 @@ struct SensorModel {
   double frame_rate_hz = 10;
   double range_sigma_m = 0;    // default 1-sigma range noise along the beam
   double intensity_sigma = 4;  // default additive intensity noise (same units as the print)
+  // Intensity falls with range and incidence (an Ouster's `intensity` field is a photon count)
+  // rather than being calibrated reflectivity (Livox, Velodyne).
+  bool raw_intensity = false;
   double min_range_m = 0, max_range_m = 0;
   double fov_deg = 0;    // rosette: full cone angle (Mid-40: 38.4); horizontal if fov_v_deg is set
   double fov_v_deg = 0;  // rosette: full vertical angle of an elliptical cone; 0 = circular

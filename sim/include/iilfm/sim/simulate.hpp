@@ -36,7 +36,13 @@ struct SimOptions {
   // kRaw: the strength of the return, as a photon count (Ouster's `intensity`) falls off:
   // reflectivity x cos(incidence) x (raw_reference_m / range)^2, equal to the reflectivity
   // head-on at raw_reference_m (no near-field loss, no saturation). Noise is added after.
-  enum class IntensityModel { kReflectivity, kRaw } intensity_model = IntensityModel::kReflectivity;
+  // kSensor: what the sensor model reports (SensorModel::raw_intensity: the Ouster models' photon
+  // count is raw, the others calibrated reflectivity).
+  enum class IntensityModel {
+    kSensor,
+    kReflectivity,
+    kRaw
+  } intensity_model = IntensityModel::kSensor;
   double raw_reference_m = 10;
   double min_range_m = -1;  // < 0: the sensor's; returns closer than this are dropped
   // Fraction of beams written as invalid points, as drivers of organised clouds emit for lost
