@@ -33,7 +33,8 @@ double rms_residual(const std::vector<MarkerCorrespondence>& markers,
 double tolerance(const MarkerCorrespondence& m, const LidarPoseOptions& options) {
   Vec3 centre = Vec3::Zero();
   for (const Vec3& p : m.lidar) centre += p / static_cast<double>(m.lidar.size());
-  return options.max_marker_residual_m + options.max_marker_residual_per_metre * centre.norm();
+  return options.max_marker_residual_m + options.max_marker_residual_per_metre * centre.norm() +
+         m.shape_rms_m;
 }
 
 // The used markers' corners stacked, with their joint covariance (block diagonal over markers;

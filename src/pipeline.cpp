@@ -229,7 +229,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (const MarkerResult& marker : r.markers) {
       if (!marker.in_map) continue;
       const MapMarker* mapped = options_.map->find(marker.detection.family, marker.detection.id);
-      MarkerCorrespondence c{mapped->key(), {}, {}, {}, {}};
+      MarkerCorrespondence c{mapped->key(), {}, {}, {}, {}, marker.marker_fit_rms};
       const std::vector<Vec3> world = world_keypoints(marker.detection, *mapped);
       for (std::size_t k = 0; k < marker.corners.size() && k < world.size(); ++k) {
         if (!marker.corners[k].valid()) continue;

@@ -25,6 +25,10 @@ struct MarkerCorrespondence {
   // their scatter, and the residual noise over the count and over the spread along each axis),
   // which is all the point-to-plane refinement needs: O(1) per marker, not O(points).
   std::optional<Plane> plane;
+  // RMS distance of `lidar` from the best square of the mapped size (0 when not fitted): how far
+  // the marker disagrees with its own shape (e.g. corners a ring apart on a coarse spinning LiDAR),
+  // which no pose can remove and the map is not to blame for.
+  double shape_rms_m = 0;
 };
 
 struct RejectedMarker {
@@ -60,7 +64,8 @@ struct LidarPoseOptions {
   // Kabsch fit; off: every corner alike.
   bool weight_corners = false;
   // A marker is consistent with a pose when its corners' RMS residual is under
-  // base + per_metre * (its distance): corner errors grow with range.
+  // base + per_metre * (its distance) + its shape_rms_m: corner errors grow with range, and a
+  // marker whose corners are not quite square cannot fit any pose better than its own square.
   double max_marker_residual_m = 0.03;
   double max_marker_residual_per_metre = 0.003;
   // After Kabsch and the robust step: refine with each marker's plane points (refine_lidar_pose).

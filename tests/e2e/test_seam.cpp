@@ -40,13 +40,19 @@ TEST(Seam, MarkerBehindAnOusterIsFoundWholeAndGivesThePose) {
   }
 }
 
-// VLP-16 (ring rows and square pixels), 1 m tag at 2.5 m, centred on the seam and off it.
-TEST(Seam, MarkerBehindAVelodyneIsFoundWhole) {
-  for (double yaw : {180.0, 178.0}) {
+// VLP-16 (ring rows and square pixels), 1 m tag at 2.5 m, in front, centred on the seam and off
+// it. The raw corners lie up to a ring (4 cm here) off the square, and that shape misfit alone
+// once made the one-marker pose "disagree with the map" (43 mm against a 37.5 mm tolerance); the
+// tolerance now includes the marker's own misfit. Measured: LiDAR position 5-8 mm.
+TEST(Seam, MarkerBehindAVelodyneIsFoundWholeAndGivesThePose) {
+  for (double yaw : {0.0, 180.0, 178.0}) {
     const eval::CaseScore s = run_turned("vlp16", 1.0, 2.5, yaw, 1);
     EXPECT_EQ(s.detected, 1) << "yaw " << yaw;
     EXPECT_EQ(s.false_positives + s.wrong_ids, 0) << "yaw " << yaw;
     EXPECT_LT(s.corner_error_mean, 0.05) << "yaw " << yaw;
+    ASSERT_TRUE(s.pose) << "yaw " << yaw;
+    EXPECT_LT(s.position_error, 0.03) << "yaw " << yaw;
+    EXPECT_LT(s.rotation_error_deg, 0.5) << "yaw " << yaw;
   }
 }
 
