@@ -185,6 +185,13 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
   out.unsetf(std::ios::fixed);
 }
 
+// Where the resolution came from, as the JSON's image.resolution says.
+std::string resolution_source(const DetectArgs& args,
+                              const std::optional<ResolutionEstimate>& estimated) {
+  if (estimated) return "estimated (" + estimated->method + ")";
+  return !args.sensor.empty() ? "preset " + args.sensor : "given";
+}
+
 void report_estimate(const ResolutionEstimate& estimated) {
   std::cout << "resolution estimated from the cloud (" << estimated.method
             << "): " << estimated.res_h_deg << " x " << estimated.res_v_deg << " deg";
@@ -242,10 +249,11 @@ int run_detect(const DetectArgs& args) {
     if (!args.json_path.empty() || !args.image_path.empty())
       throw InputError(
           "--json and --image take one cloud; a sequence writes --jsonl, --tum and --html");
-    return run_detect_sequence(sequence, [&args](const PointCloud& first) {
+    return run_detect_sequence(sequence, [&args](const PointCloud& first, std::string& source) {
       std::optional<ResolutionEstimate> estimated;
       PipelineOptions options = pipeline_options(args, first, estimated);
       if (estimated && !args.quiet) report_estimate(*estimated);
+      source = resolution_source(args, estimated);
       return options;
     });
   }
@@ -270,9 +278,7 @@ int run_detect(const DetectArgs& args) {
 
   std::optional<ResolutionEstimate> estimated;
   Pipeline pipeline(pipeline_options(args, loaded.cloud, estimated));
-  info.resolution_source = estimated              ? "estimated (" + estimated->method + ")"
-                           : !args.sensor.empty() ? "preset " + args.sensor
-                                                  : "given";
+  info.resolution_source = resolution_source(args, estimated);
   const FrameResult& result = process_or_explain(pipeline, loaded.cloud, args.input);
   // Printed only now, so a refused cloud leaves nothing on stdout.
   if (estimated && !args.quiet) report_estimate(*estimated);

@@ -107,6 +107,7 @@ bool is_sequence_run(const SequenceArgs& args) {
 
 int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_options) {
   std::optional<Pipeline> pipeline;  // made from the first window (it may estimate resolution)
+  std::string resolution_source;     // where the pipeline's resolution came from
   const std::unique_ptr<io::FrameSource> source = io::open_frame_source(args.input, args.topic);
   LineFile jsonl(args.jsonl_path), tum(args.tum_path);
   std::optional<HtmlSequenceReport> html;
@@ -138,13 +139,14 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
       if (!window.full()) continue;
 
       const PointView cloud = window.view();
-      const InputInfo info{frame.source, window.stats(), ms_since(start), ""};
+      InputInfo info{frame.source, window.stats(), ms_since(start), resolution_source};
       nlohmann::json line;
       if (cloud.empty()) {
         line = empty_result(info);
       } else {
         if (!pipeline) {
-          pipeline.emplace(make_options(window.copy()));
+          pipeline.emplace(make_options(window.copy(), resolution_source));
+          info.resolution_source = resolution_source;
           if (html && pipeline->options().map) html->set_map(*pipeline->options().map);
         }
         const FrameResult& result = process_frame(*pipeline, window, frame.source);

@@ -27,7 +27,10 @@ bool is_sequence_run(const SequenceArgs& args);
 // Processes the recording; returns the exit status. Damage part-way (a corrupt frame or chunk)
 // raises InputError after the frames before it were processed and written.
 // Options for the pipeline, given the first window's cloud (for an estimated resolution).
-using PipelineFactory = std::function<PipelineOptions(const PointCloud& first_window)>;
+// Makes the pipeline's options from the first window, and says where its resolution came from
+// (the JSON's image.resolution, e.g. "preset vlp16" or "estimated (ring field)").
+using PipelineFactory =
+    std::function<PipelineOptions(const PointCloud& first_window, std::string& resolution_source)>;
 int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_options);
 
 }  // namespace iilfm::cli

@@ -136,6 +136,7 @@ TEST(Sequence, BagTrajectoryMatchesTheSimulatedPoses) {
     EXPECT_EQ(j["frame"], k);
     EXPECT_NEAR(j["timestamp"].get<double>(), kStart + 0.1 * k, 1e-6);
     EXPECT_TRUE(j.contains("image") && j.contains("timing_ms") && j.contains("input"));
+    EXPECT_EQ(j["image"].value("resolution", ""), "preset ultrapuck");
     EXPECT_GT(j["input"]["valid_points"].get<int>(), 10000);
     if (k == kAway) {
       EXPECT_TRUE(j["markers"].empty());
