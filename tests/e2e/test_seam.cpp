@@ -7,8 +7,8 @@
 namespace iilfm::testing {
 namespace {
 
-eval::CaseScore run_turned(const std::string& sensor, double size, double distance,
-                           double yaw_deg, std::uint64_t seed) {
+eval::CaseScore run_turned(const std::string& sensor, double size, double distance, double yaw_deg,
+                           std::uint64_t seed) {
   eval::CaseSpec spec;
   spec.scene = "tag-wall";
   spec.sensor = sensor;
@@ -17,9 +17,8 @@ eval::CaseScore run_turned(const std::string& sensor, double size, double distan
   spec.lidar_rpy_deg = Vec3(0, 0, yaw_deg);
   const eval::CaseScore s = eval::run_case(eval::simulate_case(spec, seed), LiftMethod::kPlane);
   std::printf("%s yaw %.0f seed %llu: detected %d/%d corners %.1f mm position %.1f mm %s\n",
-              sensor.c_str(), yaw_deg, static_cast<unsigned long long>(seed), s.detected,
-              s.visible, s.corner_error_mean * 1000, s.position_error * 1000,
-              s.pose ? "" : "(no pose)");
+              sensor.c_str(), yaw_deg, static_cast<unsigned long long>(seed), s.detected, s.visible,
+              s.corner_error_mean * 1000, s.position_error * 1000, s.pose ? "" : "(no pose)");
   return s;
 }
 
