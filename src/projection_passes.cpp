@@ -1,5 +1,19 @@
 #include "projection_passes.hpp"
 
+// Cloned for AVX2 (picked at load time where the CPU has it): twice the lanes of the SSE2
+// baseline. AVX2 alone, without FMA, so no multiply-add is fused and both clones round alike.
+// Not under ThreadSanitizer: the clones' load-time resolver runs before its runtime and crashes.
+#if defined(__SANITIZE_THREAD__)
+#define IILFM_AVX2_CLONES
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define IILFM_AVX2_CLONES
+#endif
+#endif
+#ifndef IILFM_AVX2_CLONES
+#define IILFM_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+
 namespace iilfm::detail {
 
 namespace {
@@ -9,18 +23,19 @@ struct Contiguous {
 };
 }  // namespace
 
-// Cloned for AVX2 (picked at load time where the CPU has it): twice the lanes of the SSE2
-// baseline. AVX2 alone, without FMA, so no multiply-add is fused and both clones round alike.
-__attribute__((target_clones("avx2", "default"))) void spherical_coordinates_contiguous(
-    const float* x, const float* y, const float* z, std::size_t n, float* azimuth, float* elevation,
-    float* range) {
+IILFM_AVX2_CLONES void spherical_coordinates_contiguous(const float* x, const float* y,
+                                                        const float* z, std::size_t n,
+                                                        float* azimuth, float* elevation,
+                                                        float* range) {
   spherical_coordinates(Contiguous{x}, Contiguous{y}, Contiguous{z}, n, azimuth, elevation, range);
 }
 
-__attribute__((target_clones("avx2", "default"))) std::size_t pixels_of_points(
-    const ImageGeometry& g, const float* __restrict azimuth, const float* __restrict elevation,
-    const float* __restrict range, std::size_t n, std::int32_t* __restrict pixel,
-    float* __restrict offset) {
+IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g,
+                                               const float* __restrict azimuth,
+                                               const float* __restrict elevation,
+                                               const float* __restrict range, std::size_t n,
+                                               std::int32_t* __restrict pixel,
+                                               float* __restrict offset) {
   const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
   const float inv_res_h = static_cast<float>(1 / g.res_h),
               inv_res_v = static_cast<float>(1 / g.res_v);
