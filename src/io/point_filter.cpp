@@ -16,7 +16,11 @@ std::uint32_t bits_of(float v) {
 constexpr std::uint32_t kExponent = 0x7f800000u;   // all ones: Inf or NaN
 constexpr std::uint32_t kMagnitude = 0x7fffffffu;  // zero for +0 and -0
 
-bool finite(std::uint32_t bits) { return (bits & kExponent) != kExponent; }
+// 0 or 1 as an integer, so the tests combine with a branch-free `&` (no bool short-circuit).
+std::uint32_t finite(std::uint32_t bits) { return (bits & kExponent) != kExponent ? 1u : 0u; }
+std::uint32_t non_zero(std::uint32_t bx, std::uint32_t by, std::uint32_t bz) {
+  return ((bx | by | bz) & kMagnitude) != 0 ? 1u : 0u;
+}
 
 void set_size(PointCloud& cloud, std::size_t n, bool with_ring, bool with_time) {
   cloud.x.resize(n);
@@ -41,17 +45,17 @@ void compact(PointCloud& cloud, std::size_t first, CloudStats& stats) {
   std::size_t kept = first, non_finite = 0, zero = 0;
   for (std::size_t i = first; i < end; ++i) {
     const std::uint32_t bx = bits_of(x[i]), by = bits_of(y[i]), bz = bits_of(z[i]);
-    const bool ok = finite(bx) & finite(by) & finite(bz) & finite(bits_of(intensity[i]));
-    const bool at_origin = ((bx | by | bz) & kMagnitude) == 0;
+    const std::uint32_t ok = finite(bx) & finite(by) & finite(bz) & finite(bits_of(intensity[i]));
+    const std::uint32_t away = non_zero(bx, by, bz);
     x[kept] = x[i];
     y[kept] = y[i];
     z[kept] = z[i];
     intensity[kept] = intensity[i];
     if constexpr (kWithRing) ring[kept] = ring[i];
     if constexpr (kWithTime) time[kept] = time[i];
-    non_finite += !ok;
-    zero += ok & at_origin;
-    kept += ok & !at_origin;
+    non_finite += ok ^ 1u;
+    zero += ok & (away ^ 1u);
+    kept += ok & away;
   }
   set_size(cloud, kept, kWithRing, kWithTime);
   stats.valid_points += kept - first;
@@ -77,9 +81,9 @@ void drop_invalid_points(PointCloud& cloud, std::size_t first, CloudStats& stats
   std::size_t rejected = 0;
   for (std::size_t i = first; i < end; ++i) {
     const std::uint32_t bx = bits_of(x[i]), by = bits_of(y[i]), bz = bits_of(z[i]);
-    const bool ok = finite(bx) & finite(by) & finite(bz) & finite(bits_of(intensity[i])) &
-                    (((bx | by | bz) & kMagnitude) != 0);
-    rejected += !ok;
+    const std::uint32_t ok =
+        finite(bx) & finite(by) & finite(bz) & finite(bits_of(intensity[i])) & non_zero(bx, by, bz);
+    rejected += ok ^ 1u;
   }
   if (rejected == 0) {
     stats.valid_points += end - first;

@@ -2,6 +2,9 @@
 // the damage must come out intact, then a one-line InputError naming the file and the problem.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
+
 #include "bag_test_data.hpp"
 #include "iilfm/io/bag.hpp"
 
@@ -112,6 +115,46 @@ TEST_P(CorruptChunkTest, FlippedBytesInACompressedChunkAreReported) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Compressions, CorruptChunkTest, ::testing::Values("bz2", "lz4"));
+
+// A chunk header's uncompressed size is a number from the file: a damaged one (found by fuzzing: it
+// declared gigabytes) must give a one-line error, not an allocation of that size.
+class ChunkSizeTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ChunkSizeTest, DeclaredSizeThatTheDataDoesNotMatchIsReported) {
+  SKIP_WITHOUT_ROS_PYTHON();
+  const std::string dir = testing::test_bags_dir();
+  const json expected = testing::load_json(dir + "/expected.json");
+  const std::string original = testing::file_bytes(dir + "/clouds_" + GetParam() + ".bag");
+  std::size_t at = 0;
+  for (int i = 0; i < 3; ++i) at = original.find("compression=" + GetParam(), at + 1);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t size_field = original.find("size=", at);
+  ASSERT_LT(size_field, at + 64);
+  std::uint32_t declared = 0;
+  std::memcpy(&declared, original.data() + size_field + 5, sizeof declared);
+  for (const std::uint32_t wrong : {0xf0000000u, declared + 1000u, declared - 1000u}) {
+    SCOPED_TRACE("declared " + std::to_string(wrong) + " instead of " + std::to_string(declared));
+    std::string bytes = original;
+    std::memcpy(bytes.data() + size_field + 5, &wrong, sizeof wrong);
+    testing::TempDir out;
+    const std::string path = out.file("size.bag");
+    testing::write_bytes(path, bytes);
+    const auto bag = open_bag(path);
+    std::size_t errors = 0;
+    for (const char* topic : {"/points_be", "/points_f64", "/points_padded", "/points_sparse"}) {
+      std::string error;
+      read_until_damage(*bag, topic, expected, error);
+      if (error.empty()) continue;
+      ++errors;
+      EXPECT_EQ(error.rfind(path + ": chunk at byte ", 0), 0u) << error;
+      EXPECT_NE(error.find(std::to_string(wrong) + " bytes declared"), std::string::npos) << error;
+      EXPECT_EQ(error.find('\n'), std::string::npos);
+    }
+    EXPECT_GT(errors, 0u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Compressions, ChunkSizeTest, ::testing::Values("bz2", "lz4"));
 
 }  // namespace
 }  // namespace iilfm::io
