@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "iilfm/eval/case.hpp"
@@ -17,16 +18,26 @@ double rotation_angle_deg(const Mat3& estimated, const Mat3& truth) {
 }
 
 // A true marker as the image sees it: where its centre projects and how far its corners reach.
+// Column offsets wrap on a full-circle image, so a marker across the seam keeps its small size.
 struct MarkerInImage {
   Vec2 centre;
   double radius = 0;
 };
 
+Vec2 image_offset(const ImageGeometry& g, const Vec2& from, const Vec2& to) {
+  Vec2 d = to - from;
+  if (g.full_circle()) {
+    const double turn = g.columns_per_turn();
+    d.x() -= turn * std::round(d.x() / turn);
+  }
+  return d;
+}
+
 MarkerInImage in_image(const ImageGeometry& g, const sim::MarkerTruth& m) {
   MarkerInImage out;
   out.centre = g.pixel_of_point(m.T_lidar_marker.translation());
   for (const Vec3& corner : m.corners_lidar) {
-    out.radius = std::max(out.radius, (g.pixel_of_point(corner) - out.centre).norm());
+    out.radius = std::max(out.radius, image_offset(g, out.centre, g.pixel_of_point(corner)).norm());
   }
   return out;
 }
@@ -74,9 +85,15 @@ CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth) 
 
   for (const MarkerResult& detected : result.markers) {
     const Vec2 centre = centroid(detected.detection.corners_px);
-    int on_marker = -1;  // the true marker whose image area holds the detection's centre
+    // The true marker whose image area holds the detection's centre (the nearest such one).
+    int on_marker = -1;
+    double nearest = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < truth.markers.size(); ++i) {
-      if ((centre - footprints[i].centre).norm() <= footprints[i].radius) on_marker = int(i);
+      const double d = image_offset(result.image.geometry, footprints[i].centre, centre).norm();
+      if (d <= footprints[i].radius && d < nearest) {
+        on_marker = int(i);
+        nearest = d;
+      }
     }
     if (on_marker < 0) {
       ++s.false_positives;

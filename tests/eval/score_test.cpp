@@ -58,6 +58,25 @@ TEST(Score, AnotherIdOnTheMarkerIsAWrongIdAndADetectionElsewhereAFalsePositive) 
   EXPECT_EQ(s.false_positives, 2);
 }
 
+// A full-circle image: the marker behind the LiDAR straddles the seam, its corners at both ends of
+// the image. Its footprint must wrap, not span the whole image and claim every detection.
+TEST(Score, AMarkerAcrossTheSeamOfAFullCircleIsScoredWhereItIs) {
+  CaseSpec spec;
+  spec.scene = "around";
+  spec.sensor = "os1-64";
+  spec.frames = 1;
+  const SimulatedCase c = simulate_case(spec, 1);
+  const FrameResult result = detect(c);
+  const CaseScore s = score_frame(result, c.scan.truth);
+  EXPECT_GE(s.detected, 4);
+  EXPECT_EQ(s.wrong_ids, 0);
+  EXPECT_EQ(s.false_positives, 0);
+  bool seam = false;
+  for (const MarkerResult& m : result.markers)
+    for (const Vec2& p : m.detection.corners_px) seam |= p.x() >= result.image.geometry.width;
+  EXPECT_TRUE(seam) << "no detection crosses the seam: the test checks too little";
+}
+
 TEST(Score, NoDetectionNoPoseNoErrors) {
   FrameResult result = detect(paper_scan());
   result.markers.clear();
