@@ -62,6 +62,15 @@ MarkerMap map_of(const sim::Scene& scene) {
   return map;
 }
 
+CaseSpec tag_wall_spec(const std::string& sensor, double distance_m, double marker_size_m) {
+  CaseSpec spec;
+  spec.scene = "tag-wall";
+  spec.sensor = sensor;
+  spec.scene_params.distance_m = distance_m;
+  spec.scene_params.marker_size_m = marker_size_m;
+  return spec;
+}
+
 SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed) {
   SimulatedCase c;
   c.setup = sim::named_scene(spec.scene, spec.scene_params);

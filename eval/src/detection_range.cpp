@@ -33,11 +33,7 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
   std::vector<bool> seen(settings.size(), false);
   auto done = [&](std::size_t k) { return failures_in_a_row[k] >= (seen[k] ? 2 : 8); };
   for (double distance : query.distances) {
-    CaseSpec spec;
-    spec.scene = "tag-wall";
-    spec.sensor = query.sensor;
-    spec.scene_params.distance_m = distance;
-    spec.scene_params.marker_size_m = query.marker_size_m;
+    CaseSpec spec = tag_wall_spec(query.sensor, distance, query.marker_size_m);
     spec.scene_params.family = query.family;
     spec.physics.footprint = query.footprint;
     // The sensor's own intensity (SimOptions::IntensityModel::kSensor): raw for the Ouster

@@ -79,11 +79,7 @@ std::vector<IntensityResult> intensity_study(const IntensityQuery& query) {
   physics.footprint = query.footprint;
   physics.intensity_model = query.intensity_model;
   for (double distance : query.distances) {
-    CaseSpec spec;
-    spec.scene = "tag-wall";
-    spec.sensor = query.sensor;
-    spec.scene_params.distance_m = distance;
-    spec.scene_params.marker_size_m = query.marker_size_m;
+    CaseSpec spec = tag_wall_spec(query.sensor, distance, query.marker_size_m);
     sim::apply_physics(physics, spec.physics);
     std::vector<int> found(query.variants.size(), 0), near(found), both(found);
     for (int seed = 1; seed <= query.seeds; ++seed) {

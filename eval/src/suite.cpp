@@ -59,12 +59,9 @@ SuiteSetup vlp16_aruco(const std::string& sensor, double distance_m) {
   std::snprintf(name, sizeof name, "%s, 40 cm ARUCO_ORIGINAL id 100, %g m",
                 sensor == "vlp16" ? "VLP-16" : "VLP-16 Hi-Res", distance_m);
   s.name = name;
-  s.spec.scene = "tag-wall";
-  s.spec.sensor = sensor;
+  s.spec = tag_wall_spec(sensor, distance_m, 0.4);
   s.spec.scene_params.family = "aruco:DICT_ARUCO_ORIGINAL";
   s.spec.scene_params.id = 100;
-  s.spec.scene_params.marker_size_m = 0.4;
-  s.spec.scene_params.distance_m = distance_m;
   s.spec.frames = 1;
   return s;
 }

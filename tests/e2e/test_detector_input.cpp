@@ -39,12 +39,9 @@ TEST(DetectorInput, BinarisedInputFindsAtLeastAsManyMarkersAsGrayForEveryBackEnd
     for (const Sweep& sweep : sweeps) {
       for (const double distance : sweep.distances) {
         for (int seed = 1; seed <= kSeeds; ++seed) {
-          eval::CaseSpec spec;
-          spec.sensor = sweep.sensor;
+          eval::CaseSpec spec = eval::tag_wall_spec(sweep.sensor, distance, 0.3);
           spec.scene_params.family = family;
           spec.scene_params.id = 3;
-          spec.scene_params.marker_size_m = 0.3;
-          spec.scene_params.distance_m = distance;
           spec.physics.footprint = true;  // grey mixed returns on edges: where the inputs differ
           const eval::SimulatedCase c = eval::simulate_case(spec, static_cast<std::uint64_t>(seed));
           for (const bool binarize : {true, false}) {

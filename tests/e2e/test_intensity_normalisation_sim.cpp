@@ -21,11 +21,7 @@ namespace {
 
 eval::SimulatedCase raw_case(const std::string& sensor, double distance, double size,
                              std::uint64_t seed) {
-  eval::CaseSpec spec;
-  spec.scene = "tag-wall";
-  spec.sensor = sensor;
-  spec.scene_params.distance_m = distance;
-  spec.scene_params.marker_size_m = size;
+  eval::CaseSpec spec = eval::tag_wall_spec(sensor, distance, size);
   spec.physics.intensity_model = sim::SimOptions::IntensityModel::kRaw;
   return eval::simulate_case(spec, seed);
 }
@@ -175,11 +171,7 @@ TEST(MarkerCoverageSim, GrowsWithIntegrationAndIsInTheJson) {
   EXPECT_GT(coverage[1], 0.95);
   EXPECT_LE(coverage[1], 1.0);
 
-  eval::CaseSpec spec;
-  spec.scene = "tag-wall";
-  spec.sensor = "os1-128";
-  spec.scene_params.distance_m = 3;
-  spec.scene_params.marker_size_m = 1.0;
+  eval::CaseSpec spec = eval::tag_wall_spec("os1-128", 3, 1.0);
   // The photon count the OS1 presets normalise (their default).
   spec.physics.intensity_model = sim::SimOptions::IntensityModel::kRaw;
   const eval::SimulatedCase c = eval::simulate_case(spec, 1);

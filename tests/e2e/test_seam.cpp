@@ -9,11 +9,7 @@ namespace {
 
 eval::CaseScore run_turned(const std::string& sensor, double size, double distance, double yaw_deg,
                            std::uint64_t seed) {
-  eval::CaseSpec spec;
-  spec.scene = "tag-wall";
-  spec.sensor = sensor;
-  spec.scene_params.marker_size_m = size;
-  spec.scene_params.distance_m = distance;
+  eval::CaseSpec spec = eval::tag_wall_spec(sensor, distance, size);
   spec.lidar_rpy_deg = Vec3(0, 0, yaw_deg);
   const eval::CaseScore s = eval::run_case(eval::simulate_case(spec, seed), LiftMethod::kPlane);
   std::printf("%s yaw %.0f seed %llu: detected %d/%d corners %.1f mm position %.1f mm %s\n",

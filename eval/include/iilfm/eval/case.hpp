@@ -29,6 +29,9 @@ struct SimulatedCase {
   sim::SimResult scan;  // invalid (NaN or zero) points already dropped, as the file readers do
 };
 
+// The "tag-wall" scene: one marker of `marker_size_m` facing `sensor` from `distance_m`.
+CaseSpec tag_wall_spec(const std::string& sensor, double distance_m, double marker_size_m);
+
 SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed);
 
 // The marker map a user would write for the scene (world corners of every marker).
