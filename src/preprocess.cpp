@@ -45,19 +45,21 @@ void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbour
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
     float* __restrict out = filled.ptr<float>(r);
     std::uint8_t* __restrict out_mask = filled_mask.ptr<std::uint8_t>(r);
-    // Selects on float conditions (masks hold 0 or 255).
+    // Every value is loaded before the selects, so the loop has no conditional load and
+    // vectorises (masks hold 0 or 255).
     const float* __restrict vl = value_sum.data();  // vl[c] = vs[c - 1]
     const float* __restrict cl = count_sum.data();
     for (int c = 0; c < cols; ++c) {
+      const float value = v[c];
+      const std::uint8_t observed = m[c];
       const float sum = vl[c] + vl[c + 1] + vl[c + 2];
       const float count = cl[c] + cl[c + 1] + cl[c + 2];
-      const float fillable = count >= needed ? 1.0f : 0.0f;
-      const float mean = sum / (count > 1.0f ? count : 1.0f);
-      const float observed = static_cast<float>(m[c]) * (1.0f / 255.0f);
+      const float mean = sum / std::max(count, 1.0f);
+      const std::uint8_t fillable = count >= needed ? 255 : 0;
       // Selects, not a blend: 0 * an infinite mean would be NaN.
-      const float fill = fillable > 0.0f ? mean : 0.0f;
-      out[c] = observed > 0.0f ? v[c] : fill;
-      out_mask[c] = static_cast<std::uint8_t>(255.0f * std::max(observed, fillable));
+      const float fill = fillable ? mean : 0.0f;
+      out[c] = observed ? value : fill;
+      out_mask[c] = observed | fillable;
     }
   }
 }
