@@ -59,7 +59,12 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   const auto detect_start = std::chrono::steady_clock::now();
-  preprocess(image, options.preprocess, result.preprocessed);
+  // Value 0 is both "no return" and black print here (a printed marker's PNG is 0 where black), so
+  // holes stay black rather than taking their surroundings' class (a wide black border would
+  // turn white inside).
+  PreprocessOptions preprocess_options = options.preprocess;
+  preprocess_options.hole_class_block = 0;
+  preprocess(image, preprocess_options, result.preprocessed);
   const auto detected = std::chrono::steady_clock::now();
   result.times_ms.preprocess =
       std::chrono::duration<double, std::milli>(detected - detect_start).count();

@@ -17,6 +17,7 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
   if (settings == RangeSettings::kPaper) {
     options.projection.rows = RowLayout::kUniform;
     options.preprocess.fill_holes = false;
+    options.preprocess.hole_class_block = 0;
     options.preprocess.square_pixels = false;
     options.min_samples_per_cell = 0;
   }

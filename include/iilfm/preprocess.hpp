@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 #include <optional>
+#include <vector>
 
 #include "iilfm/intensity_normalisation.hpp"
 #include "iilfm/projection.hpp"
@@ -35,6 +36,10 @@ struct PreprocessOptions {
   bool square_pixels = true;
   double blur_sigma = 0;     // Gaussian blur (pixels) after thresholding; 0 = off
   int unobserved_value = 0;  // gray value of pixels still unobserved after filling
+  // Binary image: a pixel still unobserved after filling takes the class (black or white) of most
+  // observed pixels in its block of this many pixels square and the 8 blocks around, white when
+  // there is none; 0 gives every such pixel `unobserved_value` instead.
+  int hole_class_block = 2;
 };
 
 // The detector's images. They share the projected image's geometry, or, with square pixels, have
@@ -53,6 +58,9 @@ struct PreprocessedImage {
     cv::Mat values, mask;
   };
   Buffers work[2];
+  // Hole classes: counts per column and per block, the class per band of rows and column.
+  std::vector<int> column_white, column_observed, block_white, block_observed;
+  cv::Mat hole_class;
   cv::Mat normalised;  // the normalised intensity (when normalisation is on)
   NormalisationBuffers normalise_work;
 };

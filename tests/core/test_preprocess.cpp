@@ -63,11 +63,44 @@ TEST(Preprocess, UnfilledHolesTakeTheUnobservedValue) {
   PreprocessOptions opt;
   opt.threshold = 60;
   opt.fill_holes = false;
+  opt.hole_class_block = 0;
   opt.unobserved_value = 77;
   PreprocessedImage out;
   preprocess(two_tone(), opt, out);
   EXPECT_EQ(out.detect.at<uchar>(12, 15), 77);
   EXPECT_EQ(out.gray.at<uchar>(5, 4), 77);
+}
+
+// Holes that filling cannot close (under 3 observed neighbours): a sparse scan's gaps. In the
+// binary image they take the class of the observed pixels around them: white on the white wall,
+// black on the dark floor, white where nothing around is observed (no edge for the detectors).
+TEST(Preprocess, UnfillableHolesTakeTheClassOfTheirSurroundings) {
+  ProjectedImage img;
+  img.intensity = cv::Mat(40, 60, CV_32F, cv::Scalar(120));  // wall
+  img.intensity.rowRange(20, 40).setTo(10);                  // floor
+  img.mask = cv::Mat(40, 60, CV_8U, cv::Scalar(0));
+  img.range = cv::Mat(40, 60, CV_32F, cv::Scalar(2));
+  // Every third row and column observed (no hole has the 3 observed neighbours filling needs),
+  // nothing right of column 44.
+  for (int r = 0; r < 40; r += 3)
+    for (int c = 0; c < 45; c += 3) img.mask.at<uchar>(r, c) = 255;
+  PreprocessOptions opt;
+  opt.threshold = 60;
+  PreprocessedImage out;
+  preprocess(img, opt, out);
+  const cv::Mat holes = out.valid == 0;
+  ASSERT_GT(cv::countNonZero(holes), 40 * 60 / 2)
+      << "filling closed the gaps: the test checks too little";
+  EXPECT_EQ(out.detect.at<uchar>(4, 10), 255);   // a hole on the wall
+  EXPECT_EQ(out.detect.at<uchar>(34, 10), 0);    // on the floor
+  EXPECT_EQ(out.detect.at<uchar>(10, 57), 255);  // no observation near
+  EXPECT_EQ(out.detect.at<uchar>(31, 57), 255);
+  // The observed pixels keep their own class.
+  EXPECT_EQ(out.detect.at<uchar>(3, 3), 255);
+  EXPECT_EQ(out.detect.at<uchar>(33, 3), 0);
+  opt.hole_class_block = 0;  // the constant instead
+  preprocess(img, opt, out);
+  EXPECT_EQ(out.detect.at<uchar>(4, 10), 0);
 }
 
 TEST(Preprocess, OtsuSplitsTheTwoLevels) {
