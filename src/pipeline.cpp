@@ -10,6 +10,7 @@
 #include "iilfm/pose.hpp"
 #include "iilfm/pose_covariance.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "ring_decoding.hpp"
 #include "seam_detection.hpp"
 
 namespace iilfm {
@@ -128,6 +129,9 @@ Pipeline::Pipeline(PipelineOptions options)
     throw InputError("--marker-size must be positive (metres)");
   for (const std::string& family : options_.families)
     detectors_.push_back(make_detector(family, options_.detector));
+  if (options_.ring_decode)
+    ring_decoder_ =
+        std::make_unique<detail::RingDecoder>(options_.families, detail::RingDecodeSettings{});
 }
 
 Pipeline::~Pipeline() = default;
@@ -151,6 +155,33 @@ const FrameResult& Pipeline::process(const FrameWindow& window) {
   return process_projected(window.view(), watch.lap_ms());
 }
 
+void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
+                                        const FrameResult& r) const {
+  const bool rings = ring_decoder_ && r.image.geometry.ring_rows();
+  const cv::Mat& intensity = options_.preprocess.normalise.mode != IntensityNormalisation::kNone
+                                 ? r.preprocessed.normalised
+                                 : r.image.intensity;
+  std::size_t kept = 0;
+  for (Detection& d : detections) {
+    bool keep = !undersampled(d, options_.min_samples_per_cell);
+    if (rings) {
+      switch (ring_decoder_->verify(d, r.image, intensity)) {
+        case detail::RingVerdict::kConfirmed:
+        case detail::RingVerdict::kCorrected:
+          keep = true;
+          break;
+        case detail::RingVerdict::kContradicted:
+          keep = false;
+          break;
+        case detail::RingVerdict::kUndecided:
+          break;
+      }
+    }
+    if (keep) detections[kept++] = std::move(d);
+  }
+  detections.resize(kept);
+}
+
 const FrameResult& Pipeline::process_projected(const PointView& cloud, double project_ms) {
   FrameResult& r = result_;
   r.markers.clear();
@@ -171,11 +202,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
   }
-  detections.erase(std::remove_if(detections.begin(), detections.end(),
-                                  [&](const Detection& d) {
-                                    return undersampled(d, options_.min_samples_per_cell);
-                                  }),
-                   detections.end());
+  keep_measured_detections(detections, r);
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;
