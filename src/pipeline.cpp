@@ -107,6 +107,20 @@ bool undersampled(const Detection& d, double min_samples_per_cell) {
   return v_max - v_min + 1 < needed || u_max - u_min + 1 < needed;
 }
 
+// True when `p` lies inside the convex polygon `poly` (either orientation).
+bool inside(const Vec2& p, const std::vector<Vec2>& poly) {
+  if (poly.size() < 3) return false;
+  int sign = 0;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec2 e = poly[(k + 1) % poly.size()] - poly[k], q = p - poly[k];
+    const double cross = e.x() * q.y() - e.y() * q.x();
+    const int s = cross > 0 ? 1 : cross < 0 ? -1 : 0;
+    if (s != 0 && sign != 0 && s != sign) return false;
+    if (s != 0) sign = s;
+  }
+  return true;
+}
+
 }  // namespace
 
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
@@ -155,6 +169,12 @@ const FrameResult& Pipeline::process(const FrameWindow& window) {
   return process_projected(window.view(), watch.lap_ms());
 }
 
+const cv::Mat& Pipeline::ring_intensity(const FrameResult& r) const {
+  return options_.preprocess.normalise.mode != IntensityNormalisation::kNone
+             ? r.preprocessed.normalised
+             : r.image.intensity;
+}
+
 void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
                                         const FrameResult& r) const {
   const bool rings = ring_decoder_ && r.image.geometry.ring_rows();
@@ -177,7 +197,9 @@ void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
           break;
       }
     }
-    if (keep) detections[kept++] = std::move(d);
+    if (!keep) continue;
+    if (&detections[kept] != &d) detections[kept] = std::move(d);  // no self-move
+    ++kept;
   }
   detections.resize(kept);
 }
@@ -203,6 +225,21 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
   }
   keep_measured_detections(detections, r);
+  if (ring_decoder_ && r.image.geometry.ring_rows()) {
+    std::vector<Detection> decoded;
+    ring_decoder_->decode_candidates(r.preprocessed.detect, r.preprocessed.geometry, r.image,
+                                     ring_intensity(r), decoded);
+    // Only where no detector reported a marker: a detection there was already checked.
+    const std::size_t detected = detections.size();
+    for (Detection& d : decoded) {
+      const Vec2 centre =
+          0.25 * (d.corners_px[0] + d.corners_px[1] + d.corners_px[2] + d.corners_px[3]);
+      bool covered = false;
+      for (std::size_t i = 0; i < detected; ++i)
+        covered |= inside(centre, detections[i].corners_px);
+      if (!covered) detections.push_back(std::move(d));
+    }
+  }
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;

@@ -58,8 +58,9 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   const double area = std::abs(cv::contourArea(quad));
   if (!(area > 1e-12)) return;
   const cv::Matx33d cell_to_tangent = cv::getPerspectiveTransform(square, quad);
-  tangent_to_cell_ = cell_to_tangent.inv();
+  quad_ = quad;
   start_ = book.border_start();
+  n_ = book.border_width();
   cell_height_ = std::sqrt(area) / book.border_width();  // whatever the quad's turn
 
   // Pixels around the printed image (one more cell each way, for the shifts tried).
@@ -90,11 +91,20 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   }
 }
 
-void MarkerSamples::place(double shift_cells, std::vector<Placed>& out) const {
+void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Placed>& out) const {
   out.clear();
-  const double db = shift_cells * cell_height_;
+  if (samples_.empty()) return;
+  std::vector<cv::Point2f> quad = quad_;
+  const auto top = static_cast<float>(shift_top * cell_height_);
+  const auto bottom = static_cast<float>(shift_bottom * cell_height_);
+  // The corners above the quad's middle form its top, whichever corner comes first.
+  const float middle = 0.25f * (quad[0].y + quad[1].y + quad[2].y + quad[3].y);
+  for (cv::Point2f& c : quad) c.y += c.y < middle ? top : bottom;
+  const float n = static_cast<float>(n_);
+  const std::vector<cv::Point2f> square = {{0, 0}, {n, 0}, {n, n}, {0, n}};
+  const cv::Matx33d tangent_to_cell = cv::getPerspectiveTransform(quad, square);
   for (const Sample& s : samples_) {
-    const cv::Point2d c = apply(tangent_to_cell_, s.a, s.b - db);
+    const cv::Point2d c = apply(tangent_to_cell, s.a, s.b);
     out.push_back({c.x + start_, c.y + start_, s.intensity});
   }
 }

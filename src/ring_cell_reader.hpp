@@ -27,14 +27,15 @@ class MarkerSamples {
   bool empty() const { return samples_.empty(); }
   std::size_t size() const { return samples_.size(); }
 
-  // Where each sample lies on the print when the black square is moved by `shift_cells` of its
-  // cell height along the image's vertical (down positive): column and row of the printed image in
-  // cells (the black square spans [start, start + border_width]).
+  // Where each sample lies on the print when the black square's top side is moved by `shift_top`
+  // and its bottom side by `shift_bottom` cell heights along the image's vertical (down
+  // positive): column and row of the printed image in cells (the black square spans [start,
+  // start + border_width]).
   struct Placed {
     double col, row;
     float intensity;
   };
-  void place(double shift_cells, std::vector<Placed>& out) const;
+  void place(double shift_top, double shift_bottom, std::vector<Placed>& out) const;
 
  private:
   struct Sample {
@@ -42,9 +43,10 @@ class MarkerSamples {
     float intensity;
   };
   std::vector<Sample> samples_;
-  cv::Matx33d tangent_to_cell_;
-  double cell_height_ = 0;  // tangent units per cell along b
-  double start_ = 0;        // printed cell of the black square's corner
+  std::vector<cv::Point2f> quad_;  // the corners in the tangent plane
+  double cell_height_ = 0;         // tangent units per cell along b
+  double start_ = 0;               // printed cell of the black square's corner
+  int n_ = 0;                      // cells across the black square
 };
 
 struct CellReadOptions {

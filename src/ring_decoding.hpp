@@ -24,8 +24,18 @@ struct RingDecodeSettings {
   // unknown, so the detector's top and bottom sides may be off by up to half a ring spacing.
   double max_shift_cells = 0.6;
   double shift_step = 0.05;
+  // Candidates (quads no detector decoded) come from the binary image, where a border row no ring
+  // crossed is missing: their top and bottom sides are moved independently, outwards by up to
+  // `candidate_grow_cells` and inwards by up to max_shift_cells, in steps of candidate_step.
+  double candidate_grow_cells = 1.5;
+  double candidate_step = 0.1;
+  // Candidates are read nearer the cell edges: the shift was fitted to their fixed cells.
+  double candidate_central_fraction = 0.9;
   int min_distance_margin = 2;
+  // log2 of the chance that a random reading decodes (decode_cells): checking a detection.
   double min_security_bits = 10;
+  // The same for quads no detector decoded, which have no decoding of their own to agree with.
+  double candidate_min_security_bits = 12;
 };
 
 // What the ring samples say about one quad.
@@ -33,7 +43,7 @@ struct RingRead {
   bool read = false;  // the fixed cells read right somewhere in the shifts tried
   CellReading cells;
   DecodeResult decoded;
-  double shift_cells = 0;
+  double shift_top = 0, shift_bottom = 0;  // cells, down positive
 };
 
 enum class RingVerdict {
@@ -50,12 +60,22 @@ class RingDecoder {
   bool supports(const std::string& family) const { return books_.count(family) > 0; }
 
   // Reads and decodes the square at `corners_px` (projected-image coordinates, any corner first).
+  // `candidate`: a quad no detector decoded (settings' candidate_* apply).
   RingRead read(const std::string& family, const std::array<Vec2, 4>& corners_px,
-                const ProjectedImage& image, const cv::Mat& intensity) const;
+                const ProjectedImage& image, const cv::Mat& intensity,
+                bool candidate = false) const;
 
   // Checks `d` (corners in projected-image coordinates) against the ring samples; a corrected
   // detection gets the decoded id and its corners reordered.
   RingVerdict verify(Detection& d, const ProjectedImage& image, const cv::Mat& intensity) const;
+
+  // Decodes square candidates that no detector decoded: dark blobs with four straight sides in
+  // `detect_gray` (the detectors' binary image, geometry `detect_geometry`), read from the ring
+  // samples for every supported family. Appends detections in projected-image
+  // coordinates (decision_margin = the decoding's chance-match bits).
+  void decode_candidates(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
+                         const ProjectedImage& image, const cv::Mat& intensity,
+                         std::vector<Detection>& out) const;
 
   DecodeLimits limits(const std::string& family) const;
 

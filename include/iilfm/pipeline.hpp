@@ -127,6 +127,8 @@ class Pipeline {
   const FrameResult& process_projected(const PointView& cloud, double project_ms);
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
+  // The intensity the thresholds work in: normalised when normalisation is on.
+  const cv::Mat& ring_intensity(const FrameResult& r) const;
 
   SphericalProjector projector_;
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window

@@ -65,7 +65,7 @@ TEST(RingCellReader, DenseRingsReadEveryCellRight) {
   const MarkerSamples samples(scene.corners, scene.image, scene.image.intensity, *book);
   ASSERT_FALSE(samples.empty());
   std::vector<MarkerSamples::Placed> placed;
-  samples.place(0, placed);
+  samples.place(0, 0, placed);
   const CellReading cells = read_cells(placed, *book, CellReadOptions{});
   EXPECT_TRUE(cells.levels_ok);
   EXPECT_NEAR(cells.black, 10, 1e-6);
@@ -81,7 +81,7 @@ TEST(RingCellReader, SparseRingsLeaveErasuresAndNoErrors) {
   const auto book = CellCodeBook::for_family("apriltag:tag36h11");
   const MarkerSamples samples(scene.corners, scene.image, scene.image.intensity, *book);
   std::vector<MarkerSamples::Placed> placed;
-  samples.place(0, placed);
+  samples.place(0, 0, placed);
   const CellReading cells = read_cells(placed, *book, CellReadOptions{});
   EXPECT_TRUE(cells.levels_ok);
   const int known = popcount(cells.bits.known);
@@ -142,7 +142,7 @@ TEST(RingDecoder, FindsTheVerticalShiftOfCornersOffByHalfARing) {
   const auto book = CellCodeBook::for_family("apriltag:tag36h11");
   EXPECT_EQ((r.cells.bits.white ^ book->code(7, 0)) & r.cells.bits.known, 0u);
   EXPECT_GT(popcount(r.cells.bits.known), 0);
-  EXPECT_LT(r.shift_cells, 0);  // moved back up
+  EXPECT_LT(r.shift_top, 0);  // moved back up
 }
 
 }  // namespace
