@@ -225,7 +225,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
   }
   keep_measured_detections(detections, r);
-  if (ring_decoder_ && r.image.geometry.ring_rows()) {
+  if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
     std::vector<Detection> decoded;
     ring_decoder_->decode_candidates(r.preprocessed.detect, r.preprocessed.geometry, r.image,
                                      ring_intensity(r), decoded);

@@ -108,6 +108,10 @@ RingVerdict RingDecoder::verify(Detection& d, const ProjectedImage& image,
 
 namespace {
 
+// Share of a candidate's margin cells brighter than the border next to them: a row of them may be
+// missing where no ring crossed it (quiet_zone_fraction, detectors/aruco_detector.hpp).
+constexpr double kMinCandidateMargin = 0.5;
+
 // Outlines of dark blobs that are nearly quadrilaterals, in `binary` (0 = black): the black
 // square of a marker whose code no detector could read is still one blob with four straight sides.
 // Each side is a line fitted to its contour points; corners are the lines' intersections,
@@ -192,6 +196,9 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       projected[k] = map_pixel(corners[k], detect_geometry, image.geometry);
     Detection best;
     for (const auto& [family, book] : books_) {
+      // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
+      if (quiet_zone_fraction(detect_gray, corners, book->border_width()) < kMinCandidateMargin)
+        continue;
       RingRead r = read(family, projected, image, intensity, true);
       if (!r.read || !r.decoded.accepted ||
           r.decoded.security_bits < settings_.candidate_min_security_bits ||
