@@ -45,6 +45,20 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
   const int outward = static_cast<int>(std::lround(grow / step));
   std::vector<MarkerSamples::Placed> placed;
+  const auto agreement_at = [&](double t, double b) {
+    samples.place(t, b, placed);
+    const CellReading cells = read_cells(placed, book, read_options);
+    return cells.levels_ok ? static_cast<double>(cells.fixed_agreeing) / cells.fixed_cells : -1.0;
+  };
+  if (candidate) {
+    // Most candidates are clutter: a coarse look (every third placing) must already find the
+    // fixed cells mostly right before the full search.
+    double coarse_best = -1;
+    for (int t = -outward; t <= inward; t += 3)
+      for (int b = -inward; b <= outward; b += 3)
+        coarse_best = std::max(coarse_best, agreement_at(t * step, b * step));
+    if (coarse_best < settings_.candidate_min_coarse_agreement) return out;
+  }
   double best_agreement = -1;
   std::vector<std::pair<double, double>> best;
   for (int t = -outward; t <= inward; ++t) {
@@ -52,10 +66,8 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
       // Detections move as a whole (their sides were found in the image); candidates' sides
       // independently.
       if (!candidate && b != t) continue;
-      samples.place(t * step, b * step, placed);
-      const CellReading cells = read_cells(placed, book, read_options);
-      if (!cells.levels_ok) continue;
-      const double agreement = static_cast<double>(cells.fixed_agreeing) / cells.fixed_cells;
+      const double agreement = agreement_at(t * step, b * step);
+      if (agreement < 0) continue;
       if (agreement > best_agreement + 1e-9) {
         best_agreement = agreement;
         best.clear();

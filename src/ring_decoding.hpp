@@ -31,6 +31,8 @@ struct RingDecodeSettings {
   double candidate_step = 0.1;
   // Candidates are read nearer the cell edges: the shift was fitted to their fixed cells.
   double candidate_central_fraction = 0.9;
+  // Share of fixed cells read right somewhere on a coarse grid of placings before the full search.
+  double candidate_min_coarse_agreement = 0.8;
   int min_distance_margin = 2;
   // log2 of the chance that a random reading decodes (decode_cells): checking a detection.
   double min_security_bits = 10;

@@ -63,9 +63,8 @@ struct PipelineOptions {
   // another id is corrected, one they confirm is kept even below min_samples_per_cell.
   bool ring_decode = true;
   // With ring_decode: also decode, from the ring samples, dark squares no detector decoded (the
-  // range beyond one ring per cell row). Off by default: it costs about 75 ms a frame on a
-  // cluttered Pandar64 scan with three families (docs/pipeline.md).
-  bool ring_candidates = false;
+  // range beyond one ring per cell row).
+  bool ring_candidates = true;
 };
 
 struct MarkerResult {
