@@ -8,6 +8,7 @@
 
 #include "../../src/cell_code_book.hpp"
 #include "iilfm/apriltag_families.hpp"
+#include "iilfm/detector.hpp"
 
 namespace iilfm::detail {
 namespace {
@@ -189,6 +190,27 @@ TEST(DecodeCells, ErrorsAgainstCountsKnownBitsOnly) {
   r.known &= ~std::uint64_t{1};
   EXPECT_EQ(errors_against(*book, r, 7), 1);
   EXPECT_EQ(errors_against(*book, r, 8), popcount((book->code(8, 0) ^ r.white) & r.known));
+}
+
+}  // namespace
+}  // namespace iilfm::detail
+
+namespace iilfm::detail {
+namespace {
+
+// Every AprilTag and ArUco family gets a book (the pipeline builds one per family asked for),
+// with its codes unchanged by four quarter turns.
+TEST(CellCodeBook, EverySquareFamilyHasABook) {
+  int books = 0;
+  for (const std::string& family : known_families()) {
+    if (family.rfind("apriltag:", 0) != 0 && family.rfind("aruco:", 0) != 0) continue;
+    const auto book = CellCodeBook::for_family(family);
+    ASSERT_TRUE(book) << family;
+    EXPECT_EQ(book->border_width(), family_layout(family).border_width) << family;
+    EXPECT_GT(book->bits(), 0) << family;
+    ++books;
+  }
+  EXPECT_EQ(books, 9 + 21);
 }
 
 }  // namespace
