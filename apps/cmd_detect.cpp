@@ -47,6 +47,8 @@ struct DetectArgs {
   std::string rows;
   bool no_square_pixels = false;
   bool no_edge_refine = false;
+  bool no_ring_decode = false;
+  bool no_ring_candidates = false;
   double blur = 0;
   bool gray_input = false;
   float decimate = 1;
@@ -126,6 +128,8 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   set_rows(args.rows, options);
   options.preprocess.square_pixels = !args.no_square_pixels;
   options.edge_refine = !args.no_edge_refine;
+  options.ring_decode = !args.no_ring_decode;
+  options.ring_candidates = !args.no_ring_candidates;
   set_collision(args.collision, options);
   set_lift(args.lift, options);
 
@@ -351,6 +355,12 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-edge-refine", args->no_edge_refine,
                 "Lift the detector's corners as found, without moving the sides to halfway "
                 "between the marker's black and white levels");
+  cmd->add_flag("--no-ring-decode", args->no_ring_decode,
+                "On ring rows, do not check detections against the cells read from the rings "
+                "that crossed them (nor keep the ones they confirm below one ring per cell)");
+  cmd->add_flag("--no-ring-candidates", args->no_ring_candidates,
+                "On ring rows, do not decode dark squares that no detector decoded from the rings "
+                "that crossed them (the range beyond one ring per cell row)");
   cmd->add_flag("--no-square-pixels", args->no_square_pixels,
                 "Give detectors the projected rows as they are (the paper's image)");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");

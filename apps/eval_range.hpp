@@ -12,6 +12,7 @@ struct RangeStudyArgs {
   std::vector<double> sizes = {0.172, 0.4, 1.0};
   int seeds = 10, required = 9;
   bool footprint = true;
+  bool ring_decode = true;
 };
 
 // Prints the Markdown table on stdout and per-distance counts on stderr.

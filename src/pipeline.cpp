@@ -10,6 +10,7 @@
 #include "iilfm/pose.hpp"
 #include "iilfm/pose_covariance.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "ring_decoding.hpp"
 #include "seam_detection.hpp"
 
 namespace iilfm {
@@ -106,6 +107,20 @@ bool undersampled(const Detection& d, double min_samples_per_cell) {
   return v_max - v_min + 1 < needed || u_max - u_min + 1 < needed;
 }
 
+// True when `p` lies inside the convex polygon `poly` (either orientation).
+bool inside(const Vec2& p, const std::vector<Vec2>& poly) {
+  if (poly.size() < 3) return false;
+  int sign = 0;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec2 e = poly[(k + 1) % poly.size()] - poly[k], q = p - poly[k];
+    const double cross = e.x() * q.y() - e.y() * q.x();
+    const int s = cross > 0 ? 1 : cross < 0 ? -1 : 0;
+    if (s != 0 && sign != 0 && s != sign) return false;
+    if (s != 0) sign = s;
+  }
+  return true;
+}
+
 }  // namespace
 
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
@@ -128,6 +143,9 @@ Pipeline::Pipeline(PipelineOptions options)
     throw InputError("--marker-size must be positive (metres)");
   for (const std::string& family : options_.families)
     detectors_.push_back(make_detector(family, options_.detector));
+  if (options_.ring_decode)
+    ring_decoder_ =
+        std::make_unique<detail::RingDecoder>(options_.families, detail::RingDecodeSettings{});
 }
 
 Pipeline::~Pipeline() = default;
@@ -151,6 +169,41 @@ const FrameResult& Pipeline::process(const FrameWindow& window) {
   return process_projected(window.view(), watch.lap_ms());
 }
 
+const cv::Mat& Pipeline::ring_intensity(const FrameResult& r) const {
+  return options_.preprocess.normalise.mode != IntensityNormalisation::kNone
+             ? r.preprocessed.normalised
+             : r.image.intensity;
+}
+
+void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
+                                        const FrameResult& r) const {
+  const bool rings = ring_decoder_ && r.image.geometry.ring_rows();
+  const cv::Mat& intensity = options_.preprocess.normalise.mode != IntensityNormalisation::kNone
+                                 ? r.preprocessed.normalised
+                                 : r.image.intensity;
+  std::size_t kept = 0;
+  for (Detection& d : detections) {
+    bool keep = !undersampled(d, options_.min_samples_per_cell);
+    if (rings) {
+      switch (ring_decoder_->verify(d, r.image, intensity)) {
+        case detail::RingVerdict::kConfirmed:
+        case detail::RingVerdict::kCorrected:
+          keep = true;
+          break;
+        case detail::RingVerdict::kContradicted:
+          keep = false;
+          break;
+        case detail::RingVerdict::kUndecided:
+          break;
+      }
+    }
+    if (!keep) continue;
+    if (&detections[kept] != &d) detections[kept] = std::move(d);  // no self-move
+    ++kept;
+  }
+  detections.resize(kept);
+}
+
 const FrameResult& Pipeline::process_projected(const PointView& cloud, double project_ms) {
   FrameResult& r = result_;
   r.markers.clear();
@@ -171,11 +224,22 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
   }
-  detections.erase(std::remove_if(detections.begin(), detections.end(),
-                                  [&](const Detection& d) {
-                                    return undersampled(d, options_.min_samples_per_cell);
-                                  }),
-                   detections.end());
+  keep_measured_detections(detections, r);
+  if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
+    std::vector<Detection> decoded;
+    ring_decoder_->decode_candidates(r.preprocessed.detect, r.preprocessed.geometry, r.image,
+                                     ring_intensity(r), decoded);
+    // Only where no detector reported a marker: a detection there was already checked.
+    const std::size_t detected = detections.size();
+    for (Detection& d : decoded) {
+      const Vec2 centre =
+          0.25 * (d.corners_px[0] + d.corners_px[1] + d.corners_px[2] + d.corners_px[3]);
+      bool covered = false;
+      for (std::size_t i = 0; i < detected; ++i)
+        covered |= inside(centre, detections[i].corners_px);
+      if (!covered) detections.push_back(std::move(d));
+    }
+  }
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;

@@ -120,6 +120,7 @@ CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks
   options.edge_refine = tweaks.edge_refine;
   options.pose.weight_corners = tweaks.weight_corners;
   options.pose.refine = tweaks.pose_refine;
+  options.ring_decode = tweaks.ring_decode;
   Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }

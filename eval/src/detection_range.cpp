@@ -52,7 +52,9 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
       const SimulatedCase c = simulate_case(spec, static_cast<std::uint64_t>(seed));
       for (std::size_t k = 0; k < settings.size(); ++k) {
         if (done(k)) continue;
-        Pipeline pipeline(range_pipeline_options(c, settings[k]));
+        PipelineOptions options = range_pipeline_options(c, settings[k]);
+        if (settings[k] == RangeSettings::kIilfm) options.ring_decode = query.ring_decode;
+        Pipeline pipeline(options);
         const CaseScore score = score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
         found[k] += score.detected > 0 ? 1 : 0;
         results[k].false_positives += score.false_positives + score.wrong_ids;

@@ -27,6 +27,10 @@
 
 namespace iilfm {
 
+namespace detail {
+class RingDecoder;
+}
+
 enum class LiftMethod {
   kPlane,  // sub-pixel corner rays meet the robustly fitted marker plane (default)
   kPaper,  // the paper's rule: the corner pixel's range, or the angle-bisector interpolation
@@ -53,6 +57,14 @@ struct PipelineOptions {
   // Drop detections whose black square spans fewer projected rows or columns than this many per
   // cell: they were decoded from resampled or filled pixels (0 = keep all).
   double min_samples_per_cell = 1.0;
+  // On images with one row per ring: read each AprilTag or ArUco detection's cells from the rings
+  // that crossed them and decode them with unsampled cells as erasures (docs/pipeline.md,
+  // "Ring-sample decoding"). A detection the samples contradict is dropped, one they decode to
+  // another id is corrected, one they confirm is kept even below min_samples_per_cell.
+  bool ring_decode = true;
+  // With ring_decode: also decode, from the ring samples, dark squares no detector decoded (the
+  // range beyond one ring per cell row).
+  bool ring_candidates = true;
 };
 
 struct MarkerResult {
@@ -116,10 +128,15 @@ class Pipeline {
   PipelineOptions options_;
   // Every stage after the projection, on the image in result_.
   const FrameResult& process_projected(const PointView& cloud, double project_ms);
+  // Drops undersampled detections and, on ring rows, those the ring samples contradict.
+  void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
+  // The intensity the thresholds work in: normalised when normalisation is on.
+  const cv::Mat& ring_intensity(const FrameResult& r) const;
 
   SphericalProjector projector_;
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
+  std::unique_ptr<detail::RingDecoder> ring_decoder_;  // when options_.ring_decode
   FrameResult result_;
 };
 

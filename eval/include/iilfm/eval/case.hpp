@@ -72,6 +72,7 @@ struct PipelineTweaks {
   bool edge_refine = PipelineOptions{}.edge_refine;
   bool weight_corners = LidarPoseOptions{}.weight_corners;
   PoseRefine pose_refine = LidarPoseOptions{}.refine;
+  bool ring_decode = PipelineOptions{}.ring_decode;
 };
 
 // Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.

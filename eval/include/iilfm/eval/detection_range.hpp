@@ -26,7 +26,8 @@ struct RangeQuery {
   // Each seed also pitches the LiDAR by up to +-1 deg and yaws it by up to +-2 deg, so seeds
   // sample where the rings cross the marker as well as the noise.
   int seeds = 10, required = 9;
-  bool footprint = true;  // beam-footprint intensity averaging (mixed edges)
+  bool footprint = true;    // beam-footprint intensity averaging (mixed edges)
+  bool ring_decode = true;  // iilfm settings: PipelineOptions::ring_decode
   std::vector<double> distances = {1,  1.5, 2,  2.5, 3,  3.5, 4,  5,  6,  7,  8, 9,
                                    10, 12,  14, 16,  18, 20,  23, 26, 30, 35, 40};
 };

@@ -1,0 +1,161 @@
+#include "ring_cell_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/imgproc.hpp>
+
+namespace iilfm::detail {
+
+namespace {
+
+struct TangentFrame {
+  Vec3 d, right, up;
+  // Tangent-plane coordinates of a direction; b grows downwards like image rows.
+  Vec2 of(const Vec3& ray) const {
+    const double z = ray.dot(d);
+    return Vec2(ray.dot(right) / z, -ray.dot(up) / z);
+  }
+  Vec3 ray(const Vec2& t) const { return (d + t.x() * right - t.y() * up).normalized(); }
+};
+
+cv::Point2d apply(const cv::Matx33d& H, double x, double y) {
+  const cv::Vec3d p = H * cv::Vec3d(x, y, 1);
+  return {p[0] / p[2], p[1] / p[2]};
+}
+
+double median(std::vector<float>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
+                             const cv::Mat& intensity, const CellCodeBook& book) {
+  const ImageGeometry& g = image.geometry;
+  std::array<Vec3, 4> rays;
+  Vec3 sum = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) {
+    if (!corners_px[k].allFinite()) return;
+    rays[k] = g.ray(corners_px[k]);
+    sum += rays[k];
+  }
+  TangentFrame frame;
+  frame.d = sum.normalized();
+  const Vec3 z(0, 0, 1);
+  if (std::abs(frame.d.dot(z)) > 0.99) return;  // near the zenith: no image up
+  frame.up = (z - frame.d.dot(z) * frame.d).normalized();
+  frame.right = frame.up.cross(frame.d);
+  const float n = static_cast<float>(book.border_width());
+  const std::vector<cv::Point2f> square = {{0, 0}, {n, 0}, {n, n}, {0, n}};
+  std::vector<cv::Point2f> quad;
+  for (const Vec3& r : rays) {
+    const Vec2 t = frame.of(r);
+    quad.emplace_back(static_cast<float>(t.x()), static_cast<float>(t.y()));
+  }
+  const double area = std::abs(cv::contourArea(quad));
+  if (!(area > 1e-12)) return;
+  const cv::Matx33d cell_to_tangent = cv::getPerspectiveTransform(square, quad);
+  quad_ = quad;
+  start_ = book.border_start();
+  n_ = book.border_width();
+  cell_height_ = std::sqrt(area) / book.border_width();  // whatever the quad's turn
+
+  // Pixels around the printed image (one more cell each way, for the shifts tried).
+  const double lo = -start_ - 1, hi = book.total_width() - start_ + 1;
+  double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
+  for (const auto& [x, y] : {std::pair{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}) {
+    const cv::Point2d t = apply(cell_to_tangent, x, y);
+    const Vec2 px = g.pixel_of_point(frame.ray(Vec2(t.x, t.y)));
+    u_min = std::min(u_min, px.x());
+    u_max = std::max(u_max, px.x());
+    v_min = std::min(v_min, px.y());
+    v_max = std::max(v_max, px.y());
+  }
+  // A quad that does not fit the image's turn is not a marker.
+  if (!(u_max - u_min < 0.5 * g.columns_per_turn())) return;
+  const int row_lo = std::max(0, static_cast<int>(std::floor(v_min)));
+  const int row_hi = std::min(g.height - 1, static_cast<int>(std::ceil(v_max)));
+  const int col_lo = static_cast<int>(std::floor(u_min)),
+            col_hi = static_cast<int>(std::ceil(u_max));
+  for (int row = row_lo; row <= row_hi; ++row) {
+    for (int col = col_lo; col <= col_hi; ++col) {
+      const int c = g.wrap_column(col);
+      if (!g.contains_pixel(c, row) || !image.observed(c, row)) continue;
+      // The pixel's own direction, at the unwrapped column so it lies beside the marker.
+      const Vec2 t = frame.of(g.ray(col, row));
+      samples_.push_back({t.x(), t.y(), intensity.at<float>(row, c)});
+    }
+  }
+}
+
+void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Placed>& out) const {
+  out.clear();
+  if (samples_.empty()) return;
+  std::vector<cv::Point2f> quad = quad_;
+  const auto top = static_cast<float>(shift_top * cell_height_);
+  const auto bottom = static_cast<float>(shift_bottom * cell_height_);
+  // The corners above the quad's middle form its top, whichever corner comes first.
+  const float middle = 0.25f * (quad[0].y + quad[1].y + quad[2].y + quad[3].y);
+  for (cv::Point2f& c : quad) c.y += c.y < middle ? top : bottom;
+  const float n = static_cast<float>(n_);
+  const std::vector<cv::Point2f> square = {{0, 0}, {n, 0}, {n, n}, {0, n}};
+  const cv::Matx33d tangent_to_cell = cv::getPerspectiveTransform(quad, square);
+  for (const Sample& s : samples_) {
+    const cv::Point2d c = apply(tangent_to_cell, s.a, s.b);
+    out.push_back({c.x + start_, c.y + start_, s.intensity});
+  }
+}
+
+CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,
+                       const CellReadOptions& options) {
+  const int T = book.total_width();
+  std::vector<double> sum(static_cast<std::size_t>(T) * T, 0);
+  std::vector<int> count(sum.size(), 0);
+  std::vector<float> black, white;
+  const double half = 0.5 * options.central_fraction;
+  for (const MarkerSamples::Placed& p : placed) {
+    if (!(p.col >= 0 && p.row >= 0 && p.col < T && p.row < T)) continue;
+    const int col = static_cast<int>(p.col), row = static_cast<int>(p.row);
+    if (std::abs(p.col - col - 0.5) > half || std::abs(p.row - row - 0.5) > half) continue;
+    const std::size_t i = static_cast<std::size_t>(row) * T + col;
+    sum[i] += p.intensity;
+    ++count[i];
+    const int role = book.cell_role(col, row);
+    if (role == CellCodeBook::kFixedBlack) black.push_back(p.intensity);
+    if (role == CellCodeBook::kFixedWhite) white.push_back(p.intensity);
+  }
+  CellReading out;
+  if (black.empty() || white.empty()) return out;
+  out.black = median(black);
+  out.white = median(white);
+  const double contrast = out.white - out.black;
+  if (!(contrast > 0)) return out;
+  const double threshold = out.black + 0.5 * contrast;
+  int black_cells = 0, white_cells = 0;
+  for (int row = 0; row < T; ++row)
+    for (int col = 0; col < T; ++col) {
+      const std::size_t i = static_cast<std::size_t>(row) * T + col;
+      if (count[i] == 0) continue;
+      const double mean = sum[i] / count[i];
+      const int role = book.cell_role(col, row);
+      if (role < 0) {
+        const bool is_white = role == CellCodeBook::kFixedWhite;
+        (is_white ? white_cells : black_cells)++;
+        ++out.fixed_cells;
+        if ((mean > threshold) == is_white) ++out.fixed_agreeing;
+        continue;
+      }
+      if (std::abs(mean - threshold) < options.ambiguous_fraction * contrast) continue;
+      out.bits.known |= std::uint64_t{1} << role;
+      if (mean > threshold) out.bits.white |= std::uint64_t{1} << role;
+    }
+  out.levels_ok = black_cells >= options.min_fixed_cells &&
+                  white_cells >= options.min_fixed_cells &&
+                  out.fixed_agreeing >= options.min_fixed_agreement * out.fixed_cells;
+  return out;
+}
+
+}  // namespace iilfm::detail

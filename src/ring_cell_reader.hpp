@@ -1,0 +1,76 @@
+// Reads a square marker's cells from the pixels the LiDAR measured, not from an interpolated image.
+// On a spinning LiDAR far from the marker, fewer rings cross it than it has cell rows: cells no
+// ring crossed near their middle are erasures, and every read cell comes from real returns.
+#pragma once
+
+#include <array>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "cell_code_book.hpp"
+#include "iilfm/projection.hpp"
+#include "iilfm/types.hpp"
+
+namespace iilfm::detail {
+
+// The measured pixels around a marker, placed in its plane. The marker's image is modelled in the
+// tangent plane of the LiDAR's view sphere at the marker (a pinhole view, where a planar square
+// maps through a homography), so ring elevations and column azimuths enter exactly.
+class MarkerSamples {
+ public:
+  // `corners_px`: the black square's corners in the projected image, in the canonical order
+  // (top-left, top-right, bottom-right, bottom-left of the print as seen); `intensity`: CV_32F,
+  // the projected image's size. Empty when the corners are degenerate.
+  MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
+                const cv::Mat& intensity, const CellCodeBook& book);
+
+  bool empty() const { return samples_.empty(); }
+  std::size_t size() const { return samples_.size(); }
+
+  // Where each sample lies on the print when the black square's top side is moved by `shift_top`
+  // and its bottom side by `shift_bottom` cell heights along the image's vertical (down
+  // positive): column and row of the printed image in cells (the black square spans [start,
+  // start + border_width]).
+  struct Placed {
+    double col, row;
+    float intensity;
+  };
+  void place(double shift_top, double shift_bottom, std::vector<Placed>& out) const;
+
+ private:
+  struct Sample {
+    double a, b;  // tangent-plane coordinates (b grows downwards in the image)
+    float intensity;
+  };
+  std::vector<Sample> samples_;
+  std::vector<cv::Point2f> quad_;  // the corners in the tangent plane
+  double cell_height_ = 0;         // tangent units per cell along b
+  double start_ = 0;               // printed cell of the black square's corner
+  int n_ = 0;                      // cells across the black square
+};
+
+struct CellReadOptions {
+  // A sample counts for a cell when it lies in the middle `central_fraction` of the cell in both
+  // directions: nearer an edge, the beam and the corner's uncertainty may put it in the neighbour.
+  double central_fraction = 0.6;
+  // A cell whose mean lies within this share of the black-white contrast of the threshold is an
+  // erasure rather than a guess.
+  double ambiguous_fraction = 0.2;
+  // Share of sampled fixed cells (black border, white margin, ...) that must read right.
+  double min_fixed_agreement = 0.9;
+  int min_fixed_cells = 6;  // of each colour
+};
+
+struct CellReading {
+  BitReading bits;
+  bool levels_ok = false;  // enough fixed cells of each colour, contrast, agreement
+  double black = 0, white = 0;
+  int fixed_cells = 0, fixed_agreeing = 0;
+};
+
+// Reads the cells from placed samples: black and white levels from the fixed cells (the marker's
+// own, no global threshold), then each data cell from the mean of its central samples.
+CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,
+                       const CellReadOptions& options);
+
+}  // namespace iilfm::detail

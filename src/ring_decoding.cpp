@@ -1,0 +1,237 @@
+#include "ring_decoding.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "detectors/aruco_detector.hpp"
+#include "iilfm/square_pixels.hpp"
+
+namespace iilfm::detail {
+
+RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings)
+    : settings_(settings) {
+  for (const std::string& family : families) {
+    if (books_.count(family)) continue;
+    std::unique_ptr<CellCodeBook> book = CellCodeBook::for_family(family);
+    if (book) books_.emplace(family, std::move(book));
+  }
+}
+
+DecodeLimits RingDecoder::limits(const std::string& family) const {
+  const CellCodeBook& book = *books_.at(family);
+  DecodeLimits limits;
+  limits.max_errors = std::max(0, (book.min_distance() - 1) / 2);
+  limits.min_distance_margin = settings_.min_distance_margin;
+  limits.min_security_bits = settings_.min_security_bits;
+  return limits;
+}
+
+RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>& corners_px,
+                           const ProjectedImage& image, const cv::Mat& intensity,
+                           bool candidate) const {
+  RingRead out;
+  const auto it = books_.find(family);
+  if (it == books_.end()) return out;
+  const CellCodeBook& book = *it->second;
+  const MarkerSamples samples(corners_px, image, intensity, book);
+  if (samples.empty()) return out;
+  CellReadOptions read_options = settings_.read;
+  if (candidate) read_options.central_fraction = settings_.candidate_central_fraction;
+  // The sides' places are chosen on the fixed cells alone (the middle of the best-reading ones),
+  // so the data bits are decoded once and no code gets several tries.
+  const double step = candidate ? settings_.candidate_step : settings_.shift_step;
+  const double grow = candidate ? settings_.candidate_grow_cells : settings_.max_shift_cells;
+  const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
+  const int outward = static_cast<int>(std::lround(grow / step));
+  std::vector<MarkerSamples::Placed> placed;
+  const auto agreement_at = [&](double t, double b) {
+    samples.place(t, b, placed);
+    const CellReading cells = read_cells(placed, book, read_options);
+    return cells.levels_ok ? static_cast<double>(cells.fixed_agreeing) / cells.fixed_cells : -1.0;
+  };
+  if (candidate) {
+    // Most candidates are clutter: a coarse look (every third placing) must already find the
+    // fixed cells mostly right before the full search.
+    double coarse_best = -1;
+    for (int t = -outward; t <= inward; t += 3)
+      for (int b = -inward; b <= outward; b += 3)
+        coarse_best = std::max(coarse_best, agreement_at(t * step, b * step));
+    if (coarse_best < settings_.candidate_min_coarse_agreement) return out;
+  }
+  double best_agreement = -1;
+  std::vector<std::pair<double, double>> best;
+  for (int t = -outward; t <= inward; ++t) {
+    for (int b = -inward; b <= outward; ++b) {
+      // Detections move as a whole (their sides were found in the image); candidates' sides
+      // independently.
+      if (!candidate && b != t) continue;
+      const double agreement = agreement_at(t * step, b * step);
+      if (agreement < 0) continue;
+      if (agreement > best_agreement + 1e-9) {
+        best_agreement = agreement;
+        best.clear();
+      }
+      if (agreement > best_agreement - 1e-9) best.emplace_back(t * step, b * step);
+    }
+  }
+  if (best.empty()) return out;
+  // The tied placing nearest their mean.
+  double mt = 0, mb = 0;
+  for (const auto& [t, b] : best) {
+    mt += t / best.size();
+    mb += b / best.size();
+  }
+  const auto nearest =
+      std::min_element(best.begin(), best.end(), [&](const auto& x, const auto& y) {
+        return std::hypot(x.first - mt, x.second - mb) < std::hypot(y.first - mt, y.second - mb);
+      });
+  out.shift_top = nearest->first;
+  out.shift_bottom = nearest->second;
+  samples.place(out.shift_top, out.shift_bottom, placed);
+  out.cells = read_cells(placed, book, read_options);
+  out.read = true;
+  out.decoded = decode_cells(book, out.cells.bits, limits(family));
+  return out;
+}
+
+RingVerdict RingDecoder::verify(Detection& d, const ProjectedImage& image,
+                                const cv::Mat& intensity) const {
+  if (!supports(d.family) || d.corners_px.size() != 4) return RingVerdict::kUndecided;
+  const std::array<Vec2, 4> corners = {d.corners_px[0], d.corners_px[1], d.corners_px[2],
+                                       d.corners_px[3]};
+  const RingRead r = read(d.family, corners, image, intensity);
+  if (!r.read) return RingVerdict::kUndecided;
+  const DecodeResult& decoded = r.decoded;
+  if (decoded.accepted && decoded.id == d.id && decoded.quarter_turns == 0)
+    return RingVerdict::kConfirmed;
+  if (decoded.accepted) {
+    // The samples name another id (or turn): corner q of the quad is the print's top-left.
+    d.id = decoded.id;
+    d.hamming = decoded.errors;
+    std::rotate(d.corners_px.begin(), d.corners_px.begin() + decoded.quarter_turns,
+                d.corners_px.end());
+    return RingVerdict::kCorrected;
+  }
+  const int errors = errors_against(*books_.at(d.family), r.cells.bits, d.id);
+  return errors > limits(d.family).max_errors ? RingVerdict::kContradicted
+                                              : RingVerdict::kUndecided;
+}
+
+namespace {
+
+// Share of a candidate's margin cells brighter than the border next to them: a row of them may be
+// missing where no ring crossed it (quiet_zone_fraction, detectors/aruco_detector.hpp).
+constexpr double kMinCandidateMargin = 0.5;
+
+// Outlines of dark blobs that are nearly quadrilaterals, in `binary` (0 = black): the black
+// square of a marker whose code no detector could read is still one blob with four straight sides.
+// Each side is a line fitted to its contour points; corners are the lines' intersections,
+// clockwise in the image (top-left-most first is not needed: the decoder finds the turn).
+std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px) {
+  cv::Mat dark;
+  cv::compare(binary, 128, dark, cv::CMP_LT);
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(dark, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  std::vector<std::array<Vec2, 4>> quads;
+  for (const std::vector<cv::Point>& contour : contours) {
+    if (contour.size() < 4 * min_side_px) continue;
+    const cv::Rect box = cv::boundingRect(contour);
+    if (box.width < min_side_px || box.height < min_side_px || box.width > binary.cols / 4 ||
+        box.height > binary.rows * 3 / 4)
+      continue;
+    // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
+    std::vector<cv::Point> hull, poly;
+    cv::convexHull(contour, hull);
+    cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
+    if (poly.size() != 4 || !cv::isContourConvex(poly)) continue;
+    if (cv::contourArea(hull) < 0.9 * cv::contourArea(poly) ||
+        cv::contourArea(contour) < 0.5 * cv::contourArea(hull))
+      continue;
+    // Contour points between consecutive vertices (ends trimmed: staircase corners) per side.
+    std::array<cv::Vec4f, 4> lines;
+    bool ok = true;
+    for (int k = 0; k < 4 && ok; ++k) {
+      const cv::Point2f a = poly[k], b = poly[(k + 1) % 4];
+      const cv::Point2f dir = b - a;
+      const float len = static_cast<float>(cv::norm(dir));
+      std::vector<cv::Point2f> side;
+      for (const cv::Point& p : contour) {
+        const cv::Point2f d = cv::Point2f(p) - a;
+        const float along = (d.x * dir.x + d.y * dir.y) / len;
+        const float across = std::abs(d.x * dir.y - d.y * dir.x) / len;
+        if (along > 0.15f * len && along < 0.85f * len && across < 0.1f * len + 1.5f)
+          side.push_back(p);
+      }
+      ok = side.size() >= 3;
+      if (ok) cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
+    }
+    if (!ok) continue;
+    std::array<Vec2, 4> quad;
+    for (int k = 0; k < 4 && ok; ++k) {
+      // Corner k + 1 is where side k meets side k + 1.
+      const cv::Vec4f& l1 = lines[k];
+      const cv::Vec4f& l2 = lines[(k + 1) % 4];
+      const double det = l1[0] * -l2[1] - l1[1] * -l2[0];
+      if (std::abs(det) < 1e-6) {
+        ok = false;
+        break;
+      }
+      const double dx = l2[2] - l1[2], dy = l2[3] - l1[3];
+      const double t = (dx * -l2[1] - dy * -l2[0]) / det;
+      quad[(k + 1) % 4] = Vec2(l1[2] + t * l1[0], l1[3] + t * l1[1]);
+    }
+    // Clockwise on the screen (y down), the corner order of square markers.
+    const double turn = (quad[1] - quad[0]).x() * (quad[2] - quad[1]).y() -
+                        (quad[1] - quad[0]).y() * (quad[2] - quad[1]).x();
+    if (turn < 0) std::swap(quad[1], quad[3]);
+    if (ok) quads.push_back(quad);
+  }
+  return quads;
+}
+
+}  // namespace
+
+void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
+                                    const ImageGeometry& detect_geometry,
+                                    const ProjectedImage& image, const cv::Mat& intensity,
+                                    std::vector<Detection>& out) const {
+  if (books_.empty() || detect_gray.empty()) return;
+  int min_cells = 1 << 30;
+  for (const auto& entry : books_) min_cells = std::min(min_cells, entry.second->border_width());
+  const std::size_t before = out.size();
+  for (const std::array<Vec2, 4>& quad : dark_quads(detect_gray, 2.0 * min_cells)) {
+    std::vector<Vec2> corners(quad.begin(), quad.end());
+    push_edges_outward(corners);  // the sides run through the outermost pixel centres
+    std::array<Vec2, 4> projected;
+    for (int k = 0; k < 4; ++k)
+      projected[k] = map_pixel(corners[k], detect_geometry, image.geometry);
+    Detection best;
+    for (const auto& [family, book] : books_) {
+      // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
+      if (quiet_zone_fraction(detect_gray, corners, book->border_width()) < kMinCandidateMargin)
+        continue;
+      RingRead r = read(family, projected, image, intensity, true);
+      if (!r.read || !r.decoded.accepted ||
+          r.decoded.security_bits < settings_.candidate_min_security_bits ||
+          r.decoded.security_bits <= best.decision_margin)
+        continue;
+      best.family = family;
+      best.id = r.decoded.id;
+      best.hamming = r.decoded.errors;
+      best.decision_margin = r.decoded.security_bits;
+      best.corners_px.assign(projected.begin(), projected.end());
+      std::rotate(best.corners_px.begin(), best.corners_px.begin() + r.decoded.quarter_turns,
+                  best.corners_px.end());
+    }
+    if (best.id < 0) continue;
+    // OpenCV reports nested outlines of one square (inner and outer edge of the border): keep
+    // one decoding per id.
+    bool seen = false;
+    for (std::size_t i = before; i < out.size(); ++i)
+      seen |= out[i].family == best.family && out[i].id == best.id;
+    if (!seen) out.push_back(std::move(best));
+  }
+}
+
+}  // namespace iilfm::detail

@@ -1,0 +1,89 @@
+// The ring-sample decoding stage (docs/pipeline.md, "Ring-sample decoding"): on images with one row
+// per ring, a square marker's cells are read from the rings that crossed them (ring_cell_reader)
+// and decoded with unsampled cells as erasures (cell_code_book). It checks what the detectors
+// decoded from the square-pixel image, whose rows between rings are invented.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cell_code_book.hpp"
+#include "iilfm/detector.hpp"
+#include "iilfm/projection.hpp"
+#include "ring_cell_reader.hpp"
+
+namespace iilfm::detail {
+
+struct RingDecodeSettings {
+  CellReadOptions read;
+  // The black square is moved along the image's vertical by up to this many cells, in steps of
+  // `shift_step`, to find where its fixed cells read best: between two rings an edge's place is
+  // unknown, so the detector's top and bottom sides may be off by up to half a ring spacing.
+  double max_shift_cells = 0.6;
+  double shift_step = 0.05;
+  // Candidates (quads no detector decoded) come from the binary image, where a border row no ring
+  // crossed is missing: their top and bottom sides are moved independently, outwards by up to
+  // `candidate_grow_cells` and inwards by up to max_shift_cells, in steps of candidate_step.
+  double candidate_grow_cells = 1.5;
+  double candidate_step = 0.1;
+  // Candidates are read nearer the cell edges: the shift was fitted to their fixed cells.
+  double candidate_central_fraction = 0.9;
+  // Share of fixed cells read right somewhere on a coarse grid of placings before the full search.
+  double candidate_min_coarse_agreement = 0.8;
+  int min_distance_margin = 2;
+  // log2 of the chance that a random reading decodes (decode_cells): checking a detection.
+  double min_security_bits = 10;
+  // The same for quads no detector decoded, which have no decoding of their own to agree with.
+  double candidate_min_security_bits = 12;
+};
+
+// What the ring samples say about one quad.
+struct RingRead {
+  bool read = false;  // the fixed cells read right somewhere in the shifts tried
+  CellReading cells;
+  DecodeResult decoded;
+  double shift_top = 0, shift_bottom = 0;  // cells, down positive
+};
+
+enum class RingVerdict {
+  kConfirmed,     // the samples decode to the detection's id and rotation
+  kCorrected,     // they decode safely to another id or rotation (the detection was changed)
+  kContradicted,  // they disagree with the id in more bits than the family corrects
+  kUndecided,     // too few samples or fixed cells
+};
+
+class RingDecoder {
+ public:
+  RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings);
+
+  bool supports(const std::string& family) const { return books_.count(family) > 0; }
+
+  // Reads and decodes the square at `corners_px` (projected-image coordinates, any corner first).
+  // `candidate`: a quad no detector decoded (settings' candidate_* apply).
+  RingRead read(const std::string& family, const std::array<Vec2, 4>& corners_px,
+                const ProjectedImage& image, const cv::Mat& intensity,
+                bool candidate = false) const;
+
+  // Checks `d` (corners in projected-image coordinates) against the ring samples; a corrected
+  // detection gets the decoded id and its corners reordered.
+  RingVerdict verify(Detection& d, const ProjectedImage& image, const cv::Mat& intensity) const;
+
+  // Decodes square candidates that no detector decoded: dark blobs with four straight sides in
+  // `detect_gray` (the detectors' binary image, geometry `detect_geometry`), read from the ring
+  // samples for every supported family. Appends detections in projected-image
+  // coordinates (decision_margin = the decoding's chance-match bits).
+  void decode_candidates(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
+                         const ProjectedImage& image, const cv::Mat& intensity,
+                         std::vector<Detection>& out) const;
+
+  DecodeLimits limits(const std::string& family) const;
+
+ private:
+  RingDecodeSettings settings_;
+  std::map<std::string, std::unique_ptr<CellCodeBook>> books_;
+};
+
+}  // namespace iilfm::detail

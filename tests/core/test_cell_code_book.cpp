@@ -1,0 +1,217 @@
+// The marker families as cell grids, and decoding with erased bits.
+#include <gtest/gtest.h>
+
+#include <bitset>
+#include <numeric>
+#include <opencv2/aruco.hpp>
+#include <random>
+
+#include "../../src/cell_code_book.hpp"
+#include "iilfm/apriltag_families.hpp"
+#include "iilfm/detector.hpp"
+
+namespace iilfm::detail {
+namespace {
+
+int popcount(std::uint64_t x) { return static_cast<int>(std::bitset<64>(x).count()); }
+
+// The data bits of a printed image (0 = black), its pixels turned `quarter_turns` clockwise.
+std::uint64_t bits_of_print(const CellCodeBook& book, const std::vector<std::uint8_t>& pixels,
+                            int quarter_turns) {
+  const int T = book.total_width();
+  std::vector<std::uint8_t> turned = pixels;
+  for (int q = 0; q < quarter_turns; ++q) {
+    std::vector<std::uint8_t> next(turned.size());
+    // Clockwise: (x, y) -> (T - 1 - y, x).
+    for (int y = 0; y < T; ++y)
+      for (int x = 0; x < T; ++x) next[x * T + (T - 1 - y)] = turned[y * T + x];
+    turned = next;
+  }
+  std::uint64_t bits = 0;
+  for (int y = 0; y < T; ++y)
+    for (int x = 0; x < T; ++x) {
+      const int role = book.cell_role(x, y);
+      if (role >= 0 && turned[y * T + x]) bits |= std::uint64_t{1} << role;
+    }
+  return bits;
+}
+
+TEST(CellCodeBook, AprilTagBookMatchesLibapriltagsPrintInEveryTurn) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  ASSERT_TRUE(book);
+  EXPECT_EQ(book->total_width(), 10);
+  EXPECT_EQ(book->border_width(), 8);
+  EXPECT_EQ(book->bits(), 36);
+  EXPECT_EQ(book->codes(), 587);
+  EXPECT_EQ(book->min_distance(), 11);
+  // Border ring black, margin white.
+  EXPECT_EQ(book->cell_role(1, 1), CellCodeBook::kFixedBlack);
+  EXPECT_EQ(book->cell_role(8, 4), CellCodeBook::kFixedBlack);
+  EXPECT_EQ(book->cell_role(0, 5), CellCodeBook::kFixedWhite);
+  for (int id : {0, 17, 586}) {
+    const AprilTagImage print = render_apriltag("tag36h11", id);
+    for (int q = 0; q < 4; ++q) EXPECT_EQ(book->code(id, q), bits_of_print(*book, print.pixels, q));
+  }
+}
+
+TEST(CellCodeBook, ArucoBookMatchesDrawMarker) {
+  const auto book = CellCodeBook::for_family("aruco:DICT_ARUCO_ORIGINAL");
+  ASSERT_TRUE(book);
+  EXPECT_EQ(book->total_width(), 9);
+  EXPECT_EQ(book->border_width(), 7);
+  EXPECT_EQ(book->bits(), 25);
+  EXPECT_EQ(book->codes(), 1024);
+  const auto dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_ARUCO_ORIGINAL);
+  for (int id : {0, 96, 100, 1023}) {
+    cv::Mat drawn;
+    cv::aruco::drawMarker(dict, id, 7, drawn, 1);  // one pixel per cell, black border
+    cv::Mat print(9, 9, CV_8U, cv::Scalar(255));
+    drawn.copyTo(print(cv::Rect(1, 1, 7, 7)));
+    const std::vector<std::uint8_t> pixels(print.begin<std::uint8_t>(), print.end<std::uint8_t>());
+    for (int q = 0; q < 4; ++q) EXPECT_EQ(book->code(id, q), bits_of_print(*book, pixels, q));
+  }
+  EXPECT_EQ(CellCodeBook::for_family("rings:ring9h3"), nullptr);
+}
+
+BitReading all_known(std::uint64_t white, int bits) {
+  return {white, bits == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1};
+}
+
+TEST(DecodeCells, FindsEveryIdAndTurnFromCleanReadings) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  for (int id : {0, 100, 586})
+    for (int q = 0; q < 4; ++q) {
+      const DecodeResult r = decode_cells(*book, all_known(book->code(id, q), 36), DecodeLimits{});
+      EXPECT_TRUE(r.accepted);
+      EXPECT_EQ(r.id, id);
+      EXPECT_EQ(r.quarter_turns, q);
+      EXPECT_EQ(r.errors, 0);
+      EXPECT_EQ(r.erasures, 0);
+      EXPECT_GE(r.distance_to_next, 11);
+      EXPECT_NEAR(r.security_bits, 36 - std::log2(4.0 * 587), 1e-9);
+    }
+}
+
+TEST(DecodeCells, CorrectsErrorsAmongErasures) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  DecodeLimits limits;
+  limits.max_errors = 5;
+  std::mt19937 rng(3);
+  int accepted = 0, thin_accepted = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const int id = static_cast<int>(rng() % 587), q = static_cast<int>(rng() % 4);
+    std::vector<int> order(36);
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    // One cell row unsampled (6 erasures) and one misread bit: 30 known bits.
+    BitReading r = all_known(book->code(id, q), 36);
+    for (int k = 0; k < 6; ++k) r.known &= ~(std::uint64_t{1} << order[k]);
+    r.white ^= std::uint64_t{1} << order[6];
+    const DecodeResult d = decode_cells(*book, r, limits);
+    EXPECT_EQ(d.erasures, 6);
+    EXPECT_EQ(d.errors, 1);
+    EXPECT_EQ(d.id, id);
+    EXPECT_EQ(d.quarter_turns, q);
+    // 2 t + 2 <= distance_to_next holds unless the erasures hit the bits that told the nearest
+    // code apart; a random 30-bit reading is within 1 bit of some code 1 time in 14,000.
+    EXPECT_NEAR(d.security_bits, 30 - std::log2(4.0 * 587) - std::log2(31.0), 1e-9);
+    accepted += d.accepted;
+    // Two rows unsampled and two misread bits still name the id, but a random 24-bit reading
+    // comes that close to some code 1 time in 24: refused.
+    BitReading thin = r;
+    for (int k = 7; k < 13; ++k) thin.known &= ~(std::uint64_t{1} << order[k]);
+    thin.white ^= std::uint64_t{1} << order[13];
+    const DecodeResult t = decode_cells(*book, thin, limits);
+    EXPECT_EQ(t.id, id);
+    EXPECT_EQ(t.errors, 2);
+    thin_accepted += t.accepted;
+  }
+  EXPECT_GE(accepted, 45);
+  EXPECT_EQ(thin_accepted, 0);
+}
+
+TEST(DecodeCells, RefusesReadingsTooThinToBeSafe) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  BitReading r = all_known(book->code(42, 0), 36);
+  r.known = (std::uint64_t{1} << 16) - 1;  // 16 known bits: 4 x 587 codes match 1 in 28 by chance
+  const DecodeResult d = decode_cells(*book, r, DecodeLimits{});
+  EXPECT_EQ(d.errors, 0);
+  EXPECT_LT(d.security_bits, 10);
+  EXPECT_FALSE(d.accepted);
+  // Random readings of 36 bits lie several bits from every code: refused.
+  std::mt19937_64 rng(7);
+  DecodeLimits limits;
+  limits.max_errors = 5;
+  for (int trial = 0; trial < 100; ++trial)
+    EXPECT_FALSE(decode_cells(*book, all_known(rng() & ((std::uint64_t{1} << 36) - 1), 36), limits)
+                     .accepted);
+}
+
+TEST(DecodeCells, RefusesReadingsHalfwayBetweenTwoCodes) {
+  const auto book = CellCodeBook::for_family("apriltag:tag16h5");
+  ASSERT_EQ(book->min_distance(), 5);
+  // Two codes 5 bits apart (tag16h5's distance); a reading with 2 of those bits from the second.
+  int a = -1, b = -1, qb = 0;
+  for (int i = 0; i < book->codes() && a < 0; ++i)
+    for (int j = 0; j < book->codes() && a < 0; ++j)
+      for (int q = 0; q < 4 && a < 0; ++q)
+        if ((i != j || q != 0) && popcount(book->code(i, 0) ^ book->code(j, q)) == 5) {
+          a = i;
+          b = j;
+          qb = q;
+        }
+  ASSERT_GE(a, 0);
+  const std::uint64_t differ = book->code(a, 0) ^ book->code(b, qb);
+  std::uint64_t two = 0;
+  for (int k = 0, taken = 0; k < 16 && taken < 2; ++k)
+    if ((differ >> k) & 1u) {
+      two |= std::uint64_t{1} << k;
+      ++taken;
+    }
+  DecodeLimits limits;
+  limits.max_errors = 2;
+  const DecodeResult d = decode_cells(*book, all_known(book->code(a, 0) ^ two, 16), limits);
+  EXPECT_EQ(d.id, a);
+  EXPECT_EQ(d.errors, 2);
+  EXPECT_EQ(d.distance_to_next, 5);
+  EXPECT_FALSE(d.accepted);  // 2 * 2 + 2 > 5
+  limits.min_distance_margin = 1;
+  EXPECT_TRUE(decode_cells(*book, all_known(book->code(a, 0) ^ two, 16), limits).accepted ||
+              decode_cells(*book, all_known(book->code(a, 0) ^ two, 16), limits).security_bits <
+                  limits.min_security_bits);
+}
+
+TEST(DecodeCells, ErrorsAgainstCountsKnownBitsOnly) {
+  const auto book = CellCodeBook::for_family("aruco:DICT_4X4_50");
+  BitReading r = all_known(book->code(7, 0), 16);
+  EXPECT_EQ(errors_against(*book, r, 7), 0);
+  r.white ^= 0b101;
+  EXPECT_EQ(errors_against(*book, r, 7), 2);
+  r.known &= ~std::uint64_t{1};
+  EXPECT_EQ(errors_against(*book, r, 7), 1);
+  EXPECT_EQ(errors_against(*book, r, 8), popcount((book->code(8, 0) ^ r.white) & r.known));
+}
+
+}  // namespace
+}  // namespace iilfm::detail
+
+namespace iilfm::detail {
+namespace {
+
+// Every AprilTag and ArUco family gets a book (the pipeline builds one per family asked for),
+// with its codes unchanged by four quarter turns.
+TEST(CellCodeBook, EverySquareFamilyHasABook) {
+  int books = 0;
+  for (const std::string& family : known_families()) {
+    if (family.rfind("apriltag:", 0) != 0 && family.rfind("aruco:", 0) != 0) continue;
+    const auto book = CellCodeBook::for_family(family);
+    ASSERT_TRUE(book) << family;
+    EXPECT_EQ(book->border_width(), family_layout(family).border_width) << family;
+    EXPECT_GT(book->bits(), 0) << family;
+    ++books;
+  }
+  EXPECT_EQ(books, 9 + 21);
+}
+
+}  // namespace
+}  // namespace iilfm::detail

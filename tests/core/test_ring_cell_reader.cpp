@@ -1,0 +1,149 @@
+// Reading a marker's cells from ring rows, and the ring-sample decoding stage, on a synthetic
+// spinning-LiDAR image of a tag on a wall.
+#include <gtest/gtest.h>
+
+#include <bitset>
+#include <cmath>
+
+#include "../../src/ring_cell_reader.hpp"
+#include "../../src/ring_decoding.hpp"
+#include "iilfm/apriltag_families.hpp"
+
+namespace iilfm::detail {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A tag36h11 of black-square edge `size` facing a LiDAR `distance` ahead (plane x = distance),
+// its centre `z0` above the sensor, seen by `rings` rings `ring_deg` apart and 0.2 deg columns.
+struct RingScene {
+  ProjectedImage image;
+  std::array<Vec2, 4> corners;  // black square, TL TR BR BL
+  int id = 0;
+
+  RingScene(int tag_id, double size, double distance, int rings, double ring_deg, double z0,
+            double white = 100, double black = 10)
+      : id(tag_id) {
+    const AprilTagImage print = render_apriltag("tag36h11", id);
+    const double cell = size / print.width_at_border;
+    const double half_print = 0.5 * cell * print.total_width;
+    ImageGeometry& g = image.geometry;
+    g.res_h = 0.2 * kDeg;
+    g.width = 200;
+    g.u0 = 100;
+    g.height = rings;
+    for (int r = 0; r < rings; ++r)
+      g.row_elevation.push_back((0.5 * (rings - 1) - r) * ring_deg * kDeg);
+    g.res_v = ring_deg * kDeg;
+    image.intensity = cv::Mat(g.height, g.width, CV_32F, cv::Scalar(50));  // grey wall
+    image.mask = cv::Mat(g.height, g.width, CV_8U, cv::Scalar(255));
+    for (int row = 0; row < g.height; ++row)
+      for (int col = 0; col < g.width; ++col) {
+        const Vec3 ray = g.ray(col, row);
+        const Vec3 p = ray * (distance / ray.x());
+        // Printed cell: columns left to right (-y), rows top to bottom (-z).
+        const double x = (half_print - p.y()) / cell, y = (half_print - (p.z() - z0)) / cell;
+        if (x < 0 || y < 0 || x >= print.total_width || y >= print.total_width) continue;
+        const int cx = static_cast<int>(x), cy = static_cast<int>(y);
+        image.intensity.at<float>(row, col) = static_cast<float>(
+            print.pixels[static_cast<std::size_t>(cy) * print.total_width + cx] ? white : black);
+      }
+    const double h = 0.5 * size;
+    const Vec3 tl(distance, h, z0 + h), tr(distance, -h, z0 + h), br(distance, -h, z0 - h),
+        bl(distance, h, z0 - h);
+    corners = {g.pixel_of_point(tl), g.pixel_of_point(tr), g.pixel_of_point(br),
+               g.pixel_of_point(bl)};
+  }
+};
+
+int popcount(std::uint64_t x) { return static_cast<int>(std::bitset<64>(x).count()); }
+
+TEST(RingCellReader, DenseRingsReadEveryCellRight) {
+  // 1 m tag at 2 m, 0.4 deg rings: 3.5 rings per cell.
+  const RingScene scene(42, 1.0, 2.0, 90, 0.4, 0.0);
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  const MarkerSamples samples(scene.corners, scene.image, scene.image.intensity, *book);
+  ASSERT_FALSE(samples.empty());
+  std::vector<MarkerSamples::Placed> placed;
+  samples.place(0, 0, placed);
+  const CellReading cells = read_cells(placed, *book, CellReadOptions{});
+  EXPECT_TRUE(cells.levels_ok);
+  EXPECT_NEAR(cells.black, 10, 1e-6);
+  EXPECT_NEAR(cells.white, 100, 1e-6);
+  EXPECT_EQ(cells.fixed_agreeing, cells.fixed_cells);
+  EXPECT_EQ(cells.bits.known, (std::uint64_t{1} << 36) - 1);
+  EXPECT_EQ(cells.bits.white, book->code(42, 0));
+}
+
+TEST(RingCellReader, SparseRingsLeaveErasuresAndNoErrors) {
+  // 1 m tag at 4.5 m on VLP-16-like 2 deg rings: 0.8 rings per cell row.
+  const RingScene scene(42, 1.0, 4.5, 16, 2.0, 0.03);
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  const MarkerSamples samples(scene.corners, scene.image, scene.image.intensity, *book);
+  std::vector<MarkerSamples::Placed> placed;
+  samples.place(0, 0, placed);
+  const CellReading cells = read_cells(placed, *book, CellReadOptions{});
+  EXPECT_TRUE(cells.levels_ok);
+  const int known = popcount(cells.bits.known);
+  EXPECT_GT(known, 0);
+  EXPECT_LT(known, 36);     // some cell rows no ring crossed near their middle
+  EXPECT_EQ(known % 6, 0);  // whole cell rows: a ring reads all six cells of its row
+  EXPECT_EQ((cells.bits.white ^ book->code(42, 0)) & cells.bits.known, 0u);
+}
+
+TEST(RingDecoder, ConfirmsCorrectsAndContradicts) {
+  const RingScene scene(42, 1.0, 2.0, 90, 0.4, 0.0);
+  const RingDecoder decoder({"apriltag:tag36h11"}, RingDecodeSettings{});
+  ASSERT_TRUE(decoder.supports("apriltag:tag36h11"));
+  EXPECT_FALSE(decoder.supports("aruco:DICT_4X4_50"));
+  const std::vector<Vec2> truth(scene.corners.begin(), scene.corners.end());
+
+  Detection right{"apriltag:tag36h11", 42, truth, {}, {}, 0, 0};
+  EXPECT_EQ(decoder.verify(right, scene.image, scene.image.intensity), RingVerdict::kConfirmed);
+
+  // Corners starting at the top-right: the samples name the turn, and the order is restored.
+  Detection turned = right;
+  std::rotate(turned.corners_px.begin(), turned.corners_px.begin() + 1, turned.corners_px.end());
+  EXPECT_EQ(decoder.verify(turned, scene.image, scene.image.intensity), RingVerdict::kCorrected);
+  EXPECT_EQ(turned.id, 42);
+  for (int k = 0; k < 4; ++k) EXPECT_LT((turned.corners_px[k] - truth[k]).norm(), 1e-12);
+
+  // A wrong id that the samples decode safely is corrected.
+  Detection wrong = right;
+  wrong.id = 43;
+  EXPECT_EQ(decoder.verify(wrong, scene.image, scene.image.intensity), RingVerdict::kCorrected);
+  EXPECT_EQ(wrong.id, 42);
+
+  // A blank square with a black border: the fixed cells read right, the data contradicts id 42.
+  RingScene blank = scene;
+  blank.image.intensity = scene.image.intensity.clone();
+  for (int row = 0; row < blank.image.geometry.height; ++row)
+    for (int col = 0; col < blank.image.geometry.width; ++col) {
+      const Vec2 c = blank.corners[0], e = blank.corners[2];
+      const double inset_u = 0.25 * (e.x() - c.x()), inset_v = 0.25 * (e.y() - c.y());
+      if (col > c.x() + inset_u && col < e.x() - inset_u && row > c.y() + inset_v &&
+          row < e.y() - inset_v)
+        blank.image.intensity.at<float>(row, col) = 10;
+    }
+  Detection on_blank = right;
+  EXPECT_EQ(decoder.verify(on_blank, blank.image, blank.image.intensity),
+            RingVerdict::kContradicted);
+}
+
+TEST(RingDecoder, FindsTheVerticalShiftOfCornersOffByHalfARing) {
+  // Far tag, corners moved down by 40 % of a ring spacing (where a square-pixel detector may put
+  // them): the fixed cells pull the grid back, and the reading makes no error.
+  const RingScene scene(7, 1.0, 3.5, 16, 2.0, 0.1);
+  const RingDecoder decoder({"apriltag:tag36h11"}, RingDecodeSettings{});
+  std::array<Vec2, 4> off = scene.corners;
+  for (Vec2& c : off) c.y() += 0.4;
+  const RingRead r = decoder.read("apriltag:tag36h11", off, scene.image, scene.image.intensity);
+  ASSERT_TRUE(r.read);
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  EXPECT_EQ((r.cells.bits.white ^ book->code(7, 0)) & r.cells.bits.known, 0u);
+  EXPECT_GT(popcount(r.cells.bits.known), 0);
+  EXPECT_LT(r.shift_top, 0);  // moved back up
+}
+
+}  // namespace
+}  // namespace iilfm::detail
