@@ -24,6 +24,7 @@ struct EvalArgs {
   std::uint64_t first_seed = 1;
   bool markdown = false, footprint = false, quiet = false;
   bool no_edge_refine = false, weight_corners = false, no_ring_decode = false;
+  bool ring_candidates = false;
   double dark_dropout = 0, invalid_fraction = 0;
   std::vector<std::string> range_sensors;
   std::vector<double> range_sizes;
@@ -74,6 +75,7 @@ int run_eval(const EvalArgs& a) {
     if (!a.range_sizes.empty()) range.sizes = a.range_sizes;
     range.seeds = a.seeds_given ? a.seeds : 10;
     range.ring_decode = !a.no_ring_decode;
+    range.ring_candidates = a.ring_candidates;
     range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
     return run_range_study(range);
   }
@@ -90,6 +92,7 @@ int run_eval(const EvalArgs& a) {
   options.footprint = a.footprint;
   options.tweaks.edge_refine = !a.no_edge_refine;
   options.tweaks.ring_decode = !a.no_ring_decode;
+  options.tweaks.ring_candidates = a.ring_candidates;
   options.tweaks.weight_corners = a.weight_corners;
   options.tweaks.pose_refine = pose_refine_named(a.pose_refine);
   options.dark_dropout = a.dark_dropout;
@@ -160,6 +163,9 @@ Runner register_eval_command(CLI::App& app) {
                 "Lift the detector's corners as found (no move of the sides to the mid level)");
   sub->add_flag("--no-ring-decode", a.no_ring_decode,
                 "Turn off the ring-sample decoding stage (PipelineOptions::ring_decode)");
+  sub->add_flag("--ring-candidates", a.ring_candidates,
+                "Also decode dark squares no detector decoded from the rings "
+                "(PipelineOptions::ring_candidates)");
   sub->add_flag("--weight-corners", a.weight_corners,
                 "Weigh corners by their variance in the LiDAR pose fit");
   sub->add_option("--pose-refine", a.pose_refine,

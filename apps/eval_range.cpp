@@ -20,6 +20,7 @@ int run_range_study(const RangeStudyArgs& a) {
       query.required = a.required;
       query.footprint = a.footprint;
       query.ring_decode = a.ring_decode;
+      query.ring_candidates = a.ring_candidates;
       const std::vector<eval::RangeResult> results =
           eval::detection_range(query, {eval::RangeSettings::kPaper, eval::RangeSettings::kIilfm});
       for (const eval::RangeResult& r : results) {

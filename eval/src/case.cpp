@@ -121,6 +121,7 @@ CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks
   options.pose.weight_corners = tweaks.weight_corners;
   options.pose.refine = tweaks.pose_refine;
   options.ring_decode = tweaks.ring_decode;
+  options.ring_candidates = tweaks.ring_candidates;
   Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }

@@ -53,7 +53,10 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
       for (std::size_t k = 0; k < settings.size(); ++k) {
         if (done(k)) continue;
         PipelineOptions options = range_pipeline_options(c, settings[k]);
-        if (settings[k] == RangeSettings::kIilfm) options.ring_decode = query.ring_decode;
+        if (settings[k] == RangeSettings::kIilfm) {
+          options.ring_decode = query.ring_decode;
+          options.ring_candidates = query.ring_candidates;
+        }
         Pipeline pipeline(options);
         const CaseScore score = score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
         found[k] += score.detected > 0 ? 1 : 0;

@@ -55,7 +55,7 @@ TEST(RingDecoding, Vlp16ReadsAOneMetreTag36h11BeyondThreeMetres) {
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const eval::SimulatedCase c = wall_case("vlp16", "apriltag:tag36h11", 0, 1.0, 4.5, seed, false);
     score(
-        c, [](PipelineOptions&) {}, with);
+        c, [](PipelineOptions& o) { o.ring_candidates = true; }, with);
     score(
         c, [](PipelineOptions& o) { o.ring_candidates = false; }, without);
   }

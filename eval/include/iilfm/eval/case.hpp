@@ -73,6 +73,7 @@ struct PipelineTweaks {
   bool weight_corners = LidarPoseOptions{}.weight_corners;
   PoseRefine pose_refine = LidarPoseOptions{}.refine;
   bool ring_decode = PipelineOptions{}.ring_decode;
+  bool ring_candidates = PipelineOptions{}.ring_candidates;
 };
 
 // Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.
