@@ -143,9 +143,6 @@ Pipeline::Pipeline(PipelineOptions options)
     throw InputError("--marker-size must be positive (metres)");
   for (const std::string& family : options_.families)
     detectors_.push_back(make_detector(family, options_.detector));
-  if (options_.ring_decode)
-    ring_decoder_ =
-        std::make_unique<detail::RingDecoder>(options_.families, detail::RingDecodeSettings{});
 }
 
 Pipeline::~Pipeline() = default;
@@ -178,9 +175,7 @@ const cv::Mat& Pipeline::ring_intensity(const FrameResult& r) const {
 void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
                                         const FrameResult& r) const {
   const bool rings = ring_decoder_ && r.image.geometry.ring_rows();
-  const cv::Mat& intensity = options_.preprocess.normalise.mode != IntensityNormalisation::kNone
-                                 ? r.preprocessed.normalised
-                                 : r.image.intensity;
+  const cv::Mat& intensity = ring_intensity(r);
   std::size_t kept = 0;
   for (Detection& d : detections) {
     bool keep = !undersampled(d, options_.min_samples_per_cell);
@@ -224,6 +219,11 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
   }
+  // The families' cell code books, built once the first image with ring rows arrives (tens of
+  // milliseconds for tag36h11: a Livox user never pays it).
+  if (options_.ring_decode && !ring_decoder_ && r.image.geometry.ring_rows())
+    ring_decoder_ =
+        std::make_unique<detail::RingDecoder>(options_.families, detail::RingDecodeSettings{});
   keep_measured_detections(detections, r);
   if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
     std::vector<Detection> decoded;

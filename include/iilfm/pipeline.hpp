@@ -137,7 +137,7 @@ class Pipeline {
   SphericalProjector projector_;
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
-  std::unique_ptr<detail::RingDecoder> ring_decoder_;  // when options_.ring_decode
+  std::unique_ptr<detail::RingDecoder> ring_decoder_;  // from the first ring-row image
   FrameResult result_;
 };
 
