@@ -156,6 +156,8 @@ class Pipeline:
         aruco_window_step: int = 10,
         pose_refine: str = "none",
         normalise_intensity: str = "",
+        ring_decode: bool = True,
+        ring_candidates: bool = False,
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""

@@ -34,6 +34,8 @@ struct Options {
   std::string pose_refine = to_string(LidarPoseOptions{}.refine);
   double blur = 0;
   bool gray = false, refine_edges = true;
+  bool ring_decode = PipelineOptions{}.ring_decode;
+  bool ring_candidates = PipelineOptions{}.ring_candidates;
   float decimate = 1, quad_sigma = 0;
   int threads = 1, max_hamming = -1;
   int aruco_window_min = ArucoOptions{}.window_min, aruco_window_max = ArucoOptions{}.window_max,
@@ -72,6 +74,8 @@ PipelineOptions pipeline_options(const Options& a) {
   set_collision(a.collision, options);
   set_lift(a.lift, options);
   options.pose.refine = pose_refine_named(a.pose_refine);
+  options.ring_decode = a.ring_decode;
+  options.ring_candidates = a.ring_candidates;
 
   // The ranges `iilfm detect` enforces on these options.
   require_range(a.decimate, 1, 8, "--decimate");
@@ -464,7 +468,7 @@ void register_pipeline(py::module_& m) {
                        bool gray, float decimate, float quad_sigma, bool refine_edges, int threads,
                        int max_hamming, std::string aruco_refine, int aruco_window_min,
                        int aruco_window_max, int aruco_window_step, std::string pose_refine,
-                       std::string normalise_intensity) {
+                       std::string normalise_intensity, bool ring_decode, bool ring_candidates) {
              Options o;
              o.sensor = std::move(sensor);
              o.markers = std::move(markers);
@@ -488,6 +492,8 @@ void register_pipeline(py::module_& m) {
              o.aruco_window_step = aruco_window_step;
              o.pose_refine = std::move(pose_refine);
              o.normalise_intensity = std::move(normalise_intensity);
+             o.ring_decode = ring_decode;
+             o.ring_candidates = ring_candidates;
              return std::make_unique<PyPipeline>(o);
            }),
            py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
@@ -502,6 +508,8 @@ void register_pipeline(py::module_& m) {
            py::arg("aruco_window_step") = ArucoOptions{}.window_step,
            py::arg("pose_refine") = to_string(LidarPoseOptions{}.refine),
            py::arg("normalise_intensity") = "",
+           py::arg("ring_decode") = PipelineOptions{}.ring_decode,
+           py::arg("ring_candidates") = PipelineOptions{}.ring_candidates,
            "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
            "neither, the resolution is estimated from the first cloud detected (as `iilfm "
            "detect` does without --sensor) and kept for later frames (see resolution).\n"
@@ -510,7 +518,8 @@ void register_pipeline(py::module_& m) {
            "map: marker map YAML path; enables the LiDAR pose.\n"
            "Other keywords are `iilfm detect`'s options with '-' as '_' (threshold: number or "
            "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
-           "refine_edges=False is --no-refine-edges; gray=True is --gray).\n"
+           "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "
+           "--no-ring-decode; ring_candidates=True is --ring-candidates).\n"
            "Raises InputError with the program's message for bad options, presets or maps.")
       .def("detect", &PyPipeline::detect, py::arg("points"),
            "Runs every stage on one frame. points: an (N, >=4) array of x, y, z, intensity[, ...] "
