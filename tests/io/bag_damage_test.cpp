@@ -38,6 +38,30 @@ std::size_t read_until_damage(BagReader& bag, const std::string& topic, const js
   return delivered;
 }
 
+// Where the third chunk record's "compression=" field starts in a bag's bytes (npos: none).
+std::size_t third_chunk(const std::string& bytes, const std::string& compression) {
+  std::size_t at = 0;
+  for (int i = 0; i < 3; ++i) at = bytes.find("compression=" + compression, at + 1);
+  return at;
+}
+
+// Reads every topic of the damaged bag at `path`; each error must be one line naming `path`, the
+// chunk and `problem`. Returns how many topics stopped on an error; `delivered` counts messages.
+std::size_t chunk_errors(BagReader& bag, const std::string& path, const json& expected,
+                         const std::string& problem, std::size_t& delivered) {
+  std::size_t errors = 0;
+  for (const char* topic : {"/points_be", "/points_f64", "/points_padded", "/points_sparse"}) {
+    std::string error;
+    delivered += read_until_damage(bag, topic, expected, error);
+    if (error.empty()) continue;
+    ++errors;
+    EXPECT_EQ(error.rfind(path + ": chunk at byte ", 0), 0u) << error;
+    EXPECT_NE(error.find(problem), std::string::npos) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos);
+  }
+  return errors;
+}
+
 class TruncatedBagTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(TruncatedBagTest, FramesBeforeTheCutSurviveThenOneLineError) {
@@ -91,8 +115,7 @@ TEST_P(CorruptChunkTest, FlippedBytesInACompressedChunkAreReported) {
   const json expected = testing::load_json(dir + "/expected.json");
   std::string bytes = testing::file_bytes(dir + "/clouds_" + GetParam() + ".bag");
   // The third chunk record: its compressed data starts a few dozen bytes after this field.
-  std::size_t at = 0;
-  for (int i = 0; i < 3; ++i) at = bytes.find("compression=" + GetParam(), at + 1);
+  const std::size_t at = third_chunk(bytes, GetParam());
   ASSERT_NE(at, std::string::npos);
   for (std::size_t i = at + 200; i < at + 216; ++i) bytes[i] = static_cast<char>(bytes[i] ^ 0x5a);
   testing::TempDir out;
@@ -100,17 +123,8 @@ TEST_P(CorruptChunkTest, FlippedBytesInACompressedChunkAreReported) {
   testing::write_bytes(path, bytes);
 
   const auto bag = open_bag(path);  // the index is intact
-  std::size_t errors = 0, delivered = 0;
-  for (const char* topic : {"/points_be", "/points_f64", "/points_padded", "/points_sparse"}) {
-    std::string error;
-    delivered += read_until_damage(*bag, topic, expected, error);
-    if (error.empty()) continue;
-    ++errors;
-    EXPECT_EQ(error.rfind(path + ": chunk at byte ", 0), 0u) << error;
-    EXPECT_NE(error.find("corrupt"), std::string::npos) << error;
-    EXPECT_EQ(error.find('\n'), std::string::npos);
-  }
-  EXPECT_GT(errors, 0u);
+  std::size_t delivered = 0;
+  EXPECT_GT(chunk_errors(*bag, path, expected, "corrupt", delivered), 0u);
   EXPECT_GT(delivered, 0u);  // the other chunks still read
 }
 
@@ -125,8 +139,7 @@ TEST_P(ChunkSizeTest, DeclaredSizeThatTheDataDoesNotMatchIsReported) {
   const std::string dir = testing::test_bags_dir();
   const json expected = testing::load_json(dir + "/expected.json");
   const std::string original = testing::file_bytes(dir + "/clouds_" + GetParam() + ".bag");
-  std::size_t at = 0;
-  for (int i = 0; i < 3; ++i) at = original.find("compression=" + GetParam(), at + 1);
+  const std::size_t at = third_chunk(original, GetParam());
   ASSERT_NE(at, std::string::npos);
   const std::size_t size_field = original.find("size=", at);
   ASSERT_LT(size_field, at + 64);
@@ -140,17 +153,10 @@ TEST_P(ChunkSizeTest, DeclaredSizeThatTheDataDoesNotMatchIsReported) {
     const std::string path = out.file("size.bag");
     testing::write_bytes(path, bytes);
     const auto bag = open_bag(path);
-    std::size_t errors = 0;
-    for (const char* topic : {"/points_be", "/points_f64", "/points_padded", "/points_sparse"}) {
-      std::string error;
-      read_until_damage(*bag, topic, expected, error);
-      if (error.empty()) continue;
-      ++errors;
-      EXPECT_EQ(error.rfind(path + ": chunk at byte ", 0), 0u) << error;
-      EXPECT_NE(error.find(std::to_string(wrong) + " bytes declared"), std::string::npos) << error;
-      EXPECT_EQ(error.find('\n'), std::string::npos);
-    }
-    EXPECT_GT(errors, 0u);
+    std::size_t delivered = 0;
+    EXPECT_GT(
+        chunk_errors(*bag, path, expected, std::to_string(wrong) + " bytes declared", delivered),
+        0u);
   }
 }
 
