@@ -26,6 +26,7 @@ struct EvalArgs {
   bool no_edge_refine = false, weight_corners = false, no_ring_decode = false;
   bool ring_candidates = false;
   double dark_dropout = 0, invalid_fraction = 0;
+  bool no_jitter = false;
   std::vector<std::string> range_sensors;
   std::vector<double> range_sizes;
   std::vector<double> distances;        // intensity suite
@@ -97,6 +98,7 @@ int run_eval(const EvalArgs& a) {
   options.tweaks.pose_refine = pose_refine_named(a.pose_refine);
   options.dark_dropout = a.dark_dropout;
   options.invalid_fraction = a.invalid_fraction;
+  if (a.no_jitter) options.jitter_px = 0;
   std::ofstream json_out;
   if (!a.json.empty()) {
     json_out.open(a.json);  // opened first so a bad path fails before minutes of work
@@ -159,6 +161,9 @@ Runner register_eval_command(CLI::App& app) {
   sub->add_option("--invalid-fraction", a.invalid_fraction,
                   "Fraction of beams emitted as NaN points (dropped before detection)")
       ->capture_default_str();
+  sub->add_flag("--no-jitter", a.no_jitter,
+                "Same LiDAR placement for every seed (default: a random sub-pixel yaw and pitch "
+                "per seed, so the pixel grid falls differently on the markers)");
   sub->add_flag("--no-edge-refine", a.no_edge_refine,
                 "Lift the detector's corners as found (no move of the sides to the mid level)");
   sub->add_flag("--no-ring-decode", a.no_ring_decode,

@@ -7,9 +7,17 @@
 
 namespace iilfm {
 
-double marker_coverage(const Detection& detection, const ProjectedImage& image) {
+namespace {
+
+struct OutlineTally {
+  std::size_t inside = 0, observed = 0, points = 0;
+};
+
+OutlineTally tally_outline(const Detection& detection, const ProjectedImage& image) {
+  OutlineTally t;
   const std::vector<Vec2> outline = keypoint_outline(detection);
-  if (outline.size() < 3 || image.mask.empty()) return 0;
+  if (outline.size() < 3 || image.mask.empty()) return t;
+  const bool counted = image.count.size() == image.mask.size();
   double u_min = outline[0].x(), u_max = u_min, v_min = outline[0].y(), v_max = v_min;
   double area = 0;  // twice the signed area: its sign says which way the outline turns
   for (std::size_t k = 0; k < outline.size(); ++k) {
@@ -26,9 +34,9 @@ double marker_coverage(const Detection& detection, const ProjectedImage& image) 
   const int c1 = std::min(image.mask.cols - 1, static_cast<int>(std::floor(u_max)));
   const int r0 = std::max(0, static_cast<int>(std::ceil(v_min)));
   const int r1 = std::min(image.mask.rows - 1, static_cast<int>(std::floor(v_max)));
-  std::size_t inside = 0, observed = 0;
   for (int r = r0; r <= r1; ++r) {
     const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
+    const std::int32_t* n = counted ? image.count.ptr<std::int32_t>(r) : nullptr;
     for (int c = c0; c <= c1; ++c) {
       // Inside a convex outline: on the inner side of every edge.
       bool in = true;
@@ -39,11 +47,24 @@ double marker_coverage(const Detection& detection, const ProjectedImage& image) 
         in = cross * turn >= 0;
       }
       if (!in) continue;
-      ++inside;
-      observed += m[c] ? 1 : 0;
+      ++t.inside;
+      t.observed += m[c] ? 1 : 0;
+      t.points += n ? static_cast<std::size_t>(std::max(0, n[c])) : (m[c] ? 1 : 0);
     }
   }
-  return inside ? static_cast<double>(observed) / static_cast<double>(inside) : 0.0;
+  return t;
+}
+
+}  // namespace
+
+double marker_coverage(const Detection& detection, const ProjectedImage& image) {
+  const OutlineTally t = tally_outline(detection, image);
+  return t.inside ? static_cast<double>(t.observed) / static_cast<double>(t.inside) : 0.0;
+}
+
+double marker_points_per_pixel(const Detection& detection, const ProjectedImage& image) {
+  const OutlineTally t = tally_outline(detection, image);
+  return t.inside ? static_cast<double>(t.points) / static_cast<double>(t.inside) : 0.0;
 }
 
 }  // namespace iilfm

@@ -7,6 +7,7 @@
 #include "iilfm/duplicates.hpp"
 #include "iilfm/edge_refine.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/marker_coverage.hpp"
 #include "iilfm/pose.hpp"
 #include "iilfm/pose_covariance.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -38,7 +39,7 @@ class Stopwatch {
 // scatter of the corners about the best affine image of the square (a shrink moves no pose), with
 // a prior of a tenth of a pixel; without a plane, from the residual alone.
 void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
-                          const ImageGeometry& geometry) {
+                          const ImageGeometry& geometry, double edge_sigma_px) {
   const std::vector<Vec3> model = marker_frame_keypoints(marker.detection, size);
   std::vector<Vec3> source, target;
   for (std::size_t k = 0; k < marker.corners.size() && k < model.size(); ++k) {
@@ -55,6 +56,10 @@ void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
     const double residual_sq = affine_residual_sq(source, target, fit.T);
     const double sigma = in_plane_sigma(residual_sq, target.size(), 0.1 * pixel_m);
     marker.corner_covariance = plane_corner_covariance(target, *marker.plane, sigma);
+    if (edge_sigma_px > 0 && marker.detection.keypoints_marker.empty() &&
+        source.size() == marker.detection.corners_px.size())
+      marker.corner_covariance +=
+          edge_offset_covariance(source, marker.detection.corners_px, fit.T, edge_sigma_px);
   } else {
     const double dof = std::max(1.0, 3.0 * static_cast<double>(target.size()) - 6);
     const double variance = fit.rms * fit.rms * static_cast<double>(target.size()) / dof;
@@ -281,7 +286,16 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     marker.in_map = mapped != nullptr;
     const std::optional<double> size =
         mapped ? std::optional<double>(mapped->size) : options_.marker_size;
-    if (size) estimate_marker_pose(marker, *size, options_.fit_known_size, r.image.geometry);
+    if (size) {
+      // Each sample that falls at its own place within its pixel (integrated non-repetitive
+      // scans, averaged per pixel) adds a phase to an edge; a spinning LiDAR's samples sit on the
+      // same grid sweep after sweep.
+      double edge_sigma_px = options_.edge_sigma_px;
+      if (edge_sigma_px > 0 && !r.image.geometry.ring_rows())
+        edge_sigma_px /=
+            std::sqrt(std::max(1.0, marker_points_per_pixel(marker.detection, r.image)));
+      estimate_marker_pose(marker, *size, options_.fit_known_size, r.image.geometry, edge_sigma_px);
+    }
     r.markers.push_back(std::move(marker));
   }
   r.times_ms.lift = watch.lap_ms();

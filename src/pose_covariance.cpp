@@ -53,6 +53,44 @@ Eigen::MatrixXd plane_corner_covariance(const std::vector<Vec3>& corners, const 
   return C;
 }
 
+Eigen::MatrixXd edge_offset_covariance(const std::vector<Vec3>& model,
+                                       const std::vector<Vec2>& corners_px, const Isometry3& T,
+                                       double sigma_px) {
+  const std::size_t n = model.size();
+  if (n < 3 || corners_px.size() != n) return {};
+  // Affine map from the marker plane (metres) to the image (pixels), least squares.
+  Eigen::MatrixXd M(static_cast<Eigen::Index>(n), 3);
+  Eigen::MatrixXd Y(static_cast<Eigen::Index>(n), 2);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    M.row(row) << model[i].x(), model[i].y(), 1.0;
+    Y.row(row) = corners_px[i].transpose();
+  }
+  const Eigen::MatrixXd coefficients = M.colPivHouseholderQr().solve(Y);
+  const Eigen::Matrix2d A = coefficients.topRows<2>().transpose();  // pixels per metre
+  Eigen::MatrixXd C =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(3 * n), static_cast<Eigen::Index>(3 * n));
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    const Vec2 edge = corners_px[b] - corners_px[a];
+    if (edge.norm() < 1e-9) continue;
+    const Vec2 image_normal = Vec2(-edge.y(), edge.x()).normalized();
+    // An image line moved by 1 pixel along its normal moves by 1 / |A^T n| metres in the plane,
+    // along A^T n.
+    const Vec2 plane_normal = A.transpose() * image_normal;
+    if (plane_normal.norm() < 1e-12) continue;
+    const double metres_per_pixel = 1.0 / plane_normal.norm();
+    const double phases = 1.0 + std::min(std::abs(edge.x()), std::abs(edge.y()));
+    const double sigma = sigma_px * metres_per_pixel / std::sqrt(phases);
+    const Vec3 shift = T.linear() * Vec3(plane_normal.x(), plane_normal.y(), 0).normalized();
+    const Mat3 block = sigma * sigma * shift * shift.transpose();
+    for (const std::size_t k : {a, b})
+      for (const std::size_t l : {a, b})
+        C.block<3, 3>(static_cast<Eigen::Index>(3 * k), static_cast<Eigen::Index>(3 * l)) += block;
+  }
+  return C;
+}
+
 double affine_residual_sq(const std::vector<Vec3>& source, const std::vector<Vec3>& target,
                           const Isometry3& T) {
   const std::size_t n = std::min(source.size(), target.size());

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "iilfm/error.hpp"
 #include "iilfm/pose.hpp"
@@ -79,6 +80,16 @@ SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed) {
   options.T_world_lidar = c.setup.T_world_lidar;
   options.T_world_lidar.linear() =
       c.setup.T_world_lidar.linear() * rotation_from_rpy_deg(spec.lidar_rpy_deg);
+  if (spec.jitter_px > 0) {
+    // Its own random stream, so that the scan's noise stays that of the seed.
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ULL + 0x5EED);
+    std::uniform_real_distribution<double> phase(-0.5, 0.5);
+    const PipelineOptions pipeline = pipeline_options_for(c, LiftMethod::kPlane);
+    const double yaw = phase(rng) * spec.jitter_px * pipeline.projection.res_h_deg;
+    const double pitch = phase(rng) * spec.jitter_px * pipeline.projection.res_v_deg;
+    options.T_world_lidar.linear() =
+        options.T_world_lidar.linear() * rotation_from_rpy_deg(Vec3(0, pitch, yaw));
+  }
   const bool rosette = c.sensor.pattern == sim::ScanPattern::kRosette;
   options.frames = spec.frames > 0 ? spec.frames : (rosette ? 40 : 1);
   options.seed = seed;

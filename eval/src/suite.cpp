@@ -183,6 +183,7 @@ SuiteResult run_suite(const std::string& name, const std::vector<SuiteSetup>& se
   for (const SuiteSetup& setup : setups) {
     CaseSpec spec = setup.spec;
     spec.physics.footprint = spec.physics.footprint || options.footprint;
+    if (spec.jitter_px == 0) spec.jitter_px = options.jitter_px;
     spec.physics.dark_dropout = std::max(spec.physics.dark_dropout, options.dark_dropout);
     spec.physics.invalid_fraction =
         std::max(spec.physics.invalid_fraction, options.invalid_fraction);

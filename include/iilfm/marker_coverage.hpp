@@ -14,4 +14,8 @@ namespace iilfm {
 // centre lies inside.
 double marker_coverage(const Detection& detection, const ProjectedImage& image);
 
+// The LiDAR points per pixel inside the same outline (every pixel counted, observed or not); 0
+// when no pixel centre lies inside.
+double marker_points_per_pixel(const Detection& detection, const ProjectedImage& image);
+
 }  // namespace iilfm

@@ -50,6 +50,10 @@ struct PipelineOptions {
   // When a marker's size is known (map or marker_size), report the square of that size fitted to
   // its four lifted corners instead of the corners themselves.
   bool fit_known_size = true;
+  // Pixels (along each edge's image normal) of the quantisation error the pixel grid leaves on a
+  // square marker's edges, carried into its corners' covariance (edge_offset_covariance);
+  // 1/sqrt(12), a uniform error over one pixel. 0 leaves it out.
+  double edge_sigma_px = 0.2887;
   // Move each detected side to where the intensity crosses halfway between the marker's own
   // black and white levels (edge_refine.hpp) before lifting: removes the shrink or growth a
   // global threshold gives blurred (beam-footprint) edges.

@@ -25,6 +25,18 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 Eigen::MatrixXd plane_corner_covariance(const std::vector<Vec3>& corners, const Plane& plane,
                                         double in_plane_sigma);
 
+// Joint covariance (3n x 3n) that the pixel grid adds to a polygon's n corners: the detector
+// places each edge where the binary image changes class, so each edge sits off its true line by
+// a quantisation error shared by both its corners (an in-plane shift or stretch of the whole
+// marker, which no per-corner residual can see). `model` holds the corners in the marker frame
+// (z = 0), `corners_px` their image positions, T the marker's pose (LiDAR frame). Each edge's
+// offset has `sigma_px` pixels along its image normal, divided by the square root of the number
+// of pixel phases its rows or columns cross (a slanted edge averages its quantisation; one along
+// the grid does not). Empty when the sizes disagree or fewer than 3 corners are given.
+Eigen::MatrixXd edge_offset_covariance(const std::vector<Vec3>& model,
+                                       const std::vector<Vec2>& corners_px, const Isometry3& T,
+                                       double sigma_px);
+
 // Sum of squared in-plane residuals of the best affine map taking the planar model `source`
 // (z = 0) onto `target` seen through pose T (target ~ T * source): what is left of the corners'
 // scatter once a shrink or growth of the detected square, uniform or not (a threshold's bias on

@@ -114,6 +114,48 @@ TEST(PoseCovariance, InPlaneSigmaIgnoresAShrink) {
   EXPECT_NEAR(in_plane_sigma(0.0, 4, 0.001, 2), std::sqrt(2e-6 / 4), 1e-12);
 }
 
+// Image corners of `s` seen 100 pixels per metre of the marker, turned by `angle_deg` in the image.
+std::vector<Vec2> image_corners(const Square& s, double angle_deg) {
+  const Eigen::Rotation2Dd turn(angle_deg * M_PI / 180);
+  std::vector<Vec2> px;
+  for (const Vec3& c : s.model) px.push_back(Vec2(300, 200) + turn * (100 * c.head<2>()));
+  return px;
+}
+
+TEST(PoseCovariance, AnEdgeOffsetIsSharedByItsTwoCorners) {
+  const Square s = make_square();
+  constexpr double kSigmaPx = 0.3, kMetresPerPixel = 0.01;
+  const Eigen::MatrixXd C = edge_offset_covariance(s.model, image_corners(s, 0), s.T, kSigmaPx);
+  ASSERT_EQ(C.rows(), 12);
+  // In the marker frame: corner 0 (top left) moves with the top edge along y and with the left
+  // edge along x, each by 0.3 pixels; never along the normal.
+  const auto block = [&](int k, int l) {
+    return Mat3(s.T.linear().transpose() * C.block<3, 3>(3 * k, 3 * l) * s.T.linear());
+  };
+  const double var = std::pow(kSigmaPx * kMetresPerPixel, 2);
+  EXPECT_NEAR(block(0, 0)(0, 0), var, 1e-12);
+  EXPECT_NEAR(block(0, 0)(1, 1), var, 1e-12);
+  EXPECT_NEAR(block(0, 0)(2, 2), 0, 1e-15);
+  // Corners 0 and 1 share the top edge (the marker's y) but not a side edge.
+  EXPECT_NEAR(block(0, 1)(1, 1), var, 1e-12);
+  EXPECT_NEAR(block(0, 1)(0, 0), 0, 1e-15);
+  // Opposite corners share nothing.
+  EXPECT_NEAR(block(0, 2).norm(), 0, 1e-15);
+  // The centre moves by the mean of two opposite edges: half their variance per axis.
+  Eigen::MatrixXd mean_x = Eigen::MatrixXd::Zero(1, 12);
+  for (int k = 0; k < 4; ++k) mean_x.block<1, 3>(0, 3 * k) = s.T.linear().col(0).transpose() / 4;
+  EXPECT_NEAR((mean_x * C * mean_x.transpose())(0, 0), var / 2, 1e-12);
+}
+
+TEST(PoseCovariance, ASlantedEdgeAveragesItsQuantisation) {
+  const Square s = make_square();
+  const Eigen::MatrixXd along_grid = edge_offset_covariance(s.model, image_corners(s, 0), s.T, 0.3);
+  const Eigen::MatrixXd slanted = edge_offset_covariance(s.model, image_corners(s, 30), s.T, 0.3);
+  // A 17.2 pixel edge turned 30 degrees crosses 8.6 pixel phases: variance / 9.6.
+  EXPECT_NEAR(slanted.trace() / along_grid.trace(), 1 / 9.6, 1e-6);
+  EXPECT_EQ(edge_offset_covariance(s.model, {}, s.T, 0.3).size(), 0);
+}
+
 TEST(PoseCovariance, RpyStdFollowsTheRotationStd) {
   Mat6 C = Mat6::Zero();
   C(2, 2) = std::pow(0.01, 2);  // yaw about the pose's own z axis, 0.57 deg

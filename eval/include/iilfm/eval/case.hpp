@@ -19,6 +19,11 @@ struct CaseSpec {
   // LiDAR roll, pitch, yaw (degrees, extrinsic x-y-z) on top of the scene's own orientation, about
   // the LiDAR's position: Table 2's pitched and yawed set-ups.
   Vec3 lidar_rpy_deg = Vec3::Zero();
+  // Turn the LiDAR, per seed, by a random yaw and pitch of up to +-jitter_px / 2 image pixels (the
+  // pipeline's resolution for the sensor): where the scan's samples fall on a marker's edges then
+  // changes from seed to seed, as it does between real set-ups. Without it every seed samples
+  // the same sub-pixel phase, and the pixel grid's error repeats as one fixed bias (0: none).
+  double jitter_px = 0;
   // Noise and physics (T_world_lidar, frames and seed are filled in from the fields above).
   sim::SimOptions physics;
 };

@@ -84,6 +84,9 @@ struct SuiteOptions {
   PipelineTweaks tweaks;  // pipeline options changed from the defaults, for before/after
   double dark_dropout = 0;
   double invalid_fraction = 0;
+  // CaseSpec::jitter_px for every set-up: on by default, so that errors and claimed sigmas are
+  // compared over sub-pixel placements rather than one.
+  double jitter_px = 1;
 };
 
 struct SuiteResult {
