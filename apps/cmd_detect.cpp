@@ -48,7 +48,7 @@ struct DetectArgs {
   bool no_square_pixels = false;
   bool no_edge_refine = false;
   bool no_ring_decode = false;
-  bool ring_candidates = false;
+  bool ring_candidates = PipelineOptions{}.ring_candidates;
   double blur = 0;
   bool gray_input = false;
   float decimate = 1;
@@ -358,9 +358,10 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-ring-decode", args->no_ring_decode,
                 "On ring rows, do not check detections against the cells read from the rings "
                 "that crossed them (nor keep the ones they confirm below one ring per cell)");
-  cmd->add_flag("--ring-candidates", args->ring_candidates,
+  cmd->add_flag("--ring-candidates,!--no-ring-candidates", args->ring_candidates,
                 "On ring rows, also decode dark squares that no detector decoded from the rings "
-                "that crossed them (range beyond one ring per cell row; costs 10-15 ms a frame)");
+                "that crossed them (default: range beyond one ring per cell row; a few ms a "
+                "frame when such a square is in view)");
   cmd->add_flag("--no-square-pixels", args->no_square_pixels,
                 "Give detectors the projected rows as they are (the paper's image)");
   cmd->add_option("--blur", args->blur, "Gaussian blur sigma (pixels) after thresholding");

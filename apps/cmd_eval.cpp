@@ -24,7 +24,7 @@ struct EvalArgs {
   std::uint64_t first_seed = 1;
   bool markdown = false, footprint = false, quiet = false;
   bool no_edge_refine = false, weight_corners = false, no_ring_decode = false;
-  bool ring_candidates = false;
+  bool ring_candidates = PipelineOptions{}.ring_candidates;
   double dark_dropout = 0, invalid_fraction = 0;
   bool no_jitter = false;
   std::vector<std::string> range_sensors;
@@ -168,9 +168,9 @@ Runner register_eval_command(CLI::App& app) {
                 "Lift the detector's corners as found (no move of the sides to the mid level)");
   sub->add_flag("--no-ring-decode", a.no_ring_decode,
                 "Turn off the ring-sample decoding stage (PipelineOptions::ring_decode)");
-  sub->add_flag("--ring-candidates", a.ring_candidates,
-                "Also decode dark squares no detector decoded from the rings "
-                "(PipelineOptions::ring_candidates)");
+  sub->add_flag("--ring-candidates,!--no-ring-candidates", a.ring_candidates,
+                "Also decode dark squares no detector decoded from the rings (default; "
+                "PipelineOptions::ring_candidates)");
   sub->add_flag("--weight-corners", a.weight_corners,
                 "Weigh corners by their variance in the LiDAR pose fit");
   sub->add_option("--pose-refine", a.pose_refine,

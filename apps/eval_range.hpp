@@ -13,7 +13,7 @@ struct RangeStudyArgs {
   int seeds = 10, required = 9;
   bool footprint = true;
   bool ring_decode = true;
-  bool ring_candidates = false;
+  bool ring_candidates = true;
 };
 
 // Prints the Markdown table on stdout and per-distance counts on stderr.

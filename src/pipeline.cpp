@@ -231,19 +231,15 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
         std::make_unique<detail::RingDecoder>(options_.families, detail::RingDecodeSettings{});
   keep_measured_detections(detections, r);
   if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
+    // Only where no detector reported a marker: a detection there was already checked.
+    const auto covered = [&](const Vec2& centre) {
+      return std::any_of(detections.begin(), detections.end(),
+                         [&](const Detection& d) { return inside(centre, d.corners_px); });
+    };
     std::vector<Detection> decoded;
     ring_decoder_->decode_candidates(r.preprocessed.detect, r.preprocessed.geometry, r.image,
-                                     ring_intensity(r), decoded);
-    // Only where no detector reported a marker: a detection there was already checked.
-    const std::size_t detected = detections.size();
-    for (Detection& d : decoded) {
-      const Vec2 centre =
-          0.25 * (d.corners_px[0] + d.corners_px[1] + d.corners_px[2] + d.corners_px[3]);
-      bool covered = false;
-      for (std::size_t i = 0; i < detected; ++i)
-        covered |= inside(centre, detections[i].corners_px);
-      if (!covered) detections.push_back(std::move(d));
-    }
+                                     ring_intensity(r), decoded, covered);
+    for (Detection& d : decoded) detections.push_back(std::move(d));
   }
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {

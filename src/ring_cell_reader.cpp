@@ -91,22 +91,82 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   }
 }
 
-void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Placed>& out) const {
-  out.clear();
-  if (samples_.empty()) return;
-  std::vector<cv::Point2f> quad = quad_;
-  const auto top = static_cast<float>(shift_top * cell_height_);
-  const auto bottom = static_cast<float>(shift_bottom * cell_height_);
+namespace {
+
+// Maps the tangent plane to printed cells when the quad's top side moves by `top` and its bottom
+// side by `bottom` (tangent units, down positive).
+cv::Matx33d shifted_tangent_to_cell(std::vector<cv::Point2f> quad, float top, float bottom, int n) {
   // The corners above the quad's middle form its top, whichever corner comes first.
   const float middle = 0.25f * (quad[0].y + quad[1].y + quad[2].y + quad[3].y);
   for (cv::Point2f& c : quad) c.y += c.y < middle ? top : bottom;
-  const float n = static_cast<float>(n_);
-  const std::vector<cv::Point2f> square = {{0, 0}, {n, 0}, {n, n}, {0, n}};
-  const cv::Matx33d tangent_to_cell = cv::getPerspectiveTransform(quad, square);
+  const auto size = static_cast<float>(n);
+  const std::vector<cv::Point2f> square = {{0, 0}, {size, 0}, {size, size}, {0, size}};
+  return cv::getPerspectiveTransform(quad, square);
+}
+
+}  // namespace
+
+void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Placed>& out) const {
+  out.clear();
+  if (samples_.empty()) return;
+  const cv::Matx33d H =
+      shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
+                              static_cast<float>(shift_bottom * cell_height_), n_);
   for (const Sample& s : samples_) {
-    const cv::Point2d c = apply(tangent_to_cell, s.a, s.b);
+    const cv::Point2d c = apply(H, s.a, s.b);
     out.push_back({c.x + start_, c.y + start_, s.intensity});
   }
+}
+
+double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
+                                      const CellCodeBook& book, const CellReadOptions& options,
+                                      Scratch& scratch) const {
+  if (samples_.empty()) return -1;
+  const cv::Matx33d H =
+      shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
+                              static_cast<float>(shift_bottom * cell_height_), n_);
+  const int T = book.total_width();
+  scratch.sum.assign(static_cast<std::size_t>(T) * T, 0);
+  scratch.count.assign(scratch.sum.size(), 0);
+  scratch.black.clear();
+  scratch.white.clear();
+  const double half = 0.5 * options.central_fraction;
+  for (const Sample& s : samples_) {
+    // As read_cells does with place()'s output, for the fixed cells only.
+    const double inverse_w = 1.0 / (H(2, 0) * s.a + H(2, 1) * s.b + H(2, 2));
+    const double x = (H(0, 0) * s.a + H(0, 1) * s.b + H(0, 2)) * inverse_w + start_;
+    const double y = (H(1, 0) * s.a + H(1, 1) * s.b + H(1, 2)) * inverse_w + start_;
+    if (!(x >= 0 && y >= 0 && x < T && y < T)) continue;
+    const int col = static_cast<int>(x), row = static_cast<int>(y);
+    if (std::abs(x - col - 0.5) > half || std::abs(y - row - 0.5) > half) continue;
+    const int role = book.cell_role(col, row);
+    if (role >= 0) continue;
+    const std::size_t i = static_cast<std::size_t>(row) * T + col;
+    scratch.sum[i] += s.intensity;
+    ++scratch.count[i];
+    if (role == CellCodeBook::kFixedBlack) scratch.black.push_back(s.intensity);
+    if (role == CellCodeBook::kFixedWhite) scratch.white.push_back(s.intensity);
+  }
+  if (scratch.black.empty() || scratch.white.empty()) return -1;
+  const double black = median(scratch.black), white = median(scratch.white);
+  const double contrast = white - black;
+  if (!(contrast > 0)) return -1;
+  const double threshold = black + 0.5 * contrast;
+  int black_cells = 0, white_cells = 0, fixed = 0, agreeing = 0;
+  for (int row = 0; row < T; ++row) {
+    for (int col = 0; col < T; ++col) {
+      const std::size_t i = static_cast<std::size_t>(row) * T + col;
+      if (scratch.count[i] == 0) continue;
+      const bool is_white = book.cell_role(col, row) == CellCodeBook::kFixedWhite;
+      (is_white ? white_cells : black_cells)++;
+      ++fixed;
+      if ((scratch.sum[i] / scratch.count[i] > threshold) == is_white) ++agreeing;
+    }
+  }
+  const bool ok = black_cells >= options.min_fixed_cells &&
+                  white_cells >= options.min_fixed_cells &&
+                  agreeing >= options.min_fixed_agreement * fixed;
+  return ok ? static_cast<double>(agreeing) / fixed : -1;
 }
 
 CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,

@@ -13,6 +13,8 @@
 
 namespace iilfm::detail {
 
+struct CellReadOptions;
+
 // The measured pixels around a marker, placed in its plane. The marker's image is modelled in the
 // tangent plane of the LiDAR's view sphere at the marker (a pinhole view, where a planar square
 // maps through a homography), so ring elevations and column azimuths enter exactly.
@@ -36,6 +38,17 @@ class MarkerSamples {
     float intensity;
   };
   void place(double shift_top, double shift_bottom, std::vector<Placed>& out) const;
+
+  // What read_cells(place(shift_top, shift_bottom)) says of the fixed cells alone: the share of
+  // them that read right, or -1 when its levels are not ok. The search over placings calls this
+  // hundreds of times per quad, so it skips the data cells and keeps its buffers in `scratch`.
+  struct Scratch {
+    std::vector<double> sum;
+    std::vector<int> count;
+    std::vector<float> black, white;
+  };
+  double fixed_agreement(double shift_top, double shift_bottom, const CellCodeBook& book,
+                         const CellReadOptions& options, Scratch& scratch) const;
 
  private:
   struct Sample {

@@ -2,12 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <opencv2/imgproc.hpp>
+#include <tuple>
+#include <utility>
 
 #include "detectors/aruco_detector.hpp"
 #include "iilfm/square_pixels.hpp"
 
 namespace iilfm::detail {
+
+namespace {
+
+// Coarse placings of a candidate within this share of fixed cells of the best are searched finely.
+constexpr double kCoarseTolerance = 0.1;
+// Share of the tied placings' accepted decodings a candidate's decoding must have.
+constexpr double kMinTiedShare = 0.4;
+
+}  // namespace
 
 RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings)
     : settings_(settings) {
@@ -44,20 +56,40 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const double grow = candidate ? settings_.candidate_grow_cells : settings_.max_shift_cells;
   const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
   const int outward = static_cast<int>(std::lround(grow / step));
-  std::vector<MarkerSamples::Placed> placed;
+  MarkerSamples::Scratch scratch;
   const auto agreement_at = [&](double t, double b) {
-    samples.place(t, b, placed);
-    const CellReading cells = read_cells(placed, book, read_options);
-    return cells.levels_ok ? static_cast<double>(cells.fixed_agreeing) / cells.fixed_cells : -1.0;
+    return samples.fixed_agreement(t, b, book, read_options, scratch);
+  };
+  const int span = inward + outward + 1;
+  // Placings to try: every one for a detection (b == t), for a candidate those near the best of
+  // a coarse look.
+  std::vector<char> wanted(static_cast<std::size_t>(span) * span, candidate ? 0 : 1);
+  const auto index = [&](int t, int b) {
+    return static_cast<std::size_t>(t + outward) * span + static_cast<std::size_t>(b + inward);
   };
   if (candidate) {
     // Most candidates are clutter: a coarse look (every third placing) must already find the
-    // fixed cells mostly right before the full search.
+    // fixed cells mostly right before the finer search, which then looks only around the coarse
+    // placings that read nearly as well as the best (agreement changes by a few fixed cells from
+    // one placing to the next, so the best fine placing lies next to a near-best coarse one).
+    constexpr int kCoarse = 3;
+    std::vector<std::tuple<int, int, double>> coarse;
     double coarse_best = -1;
-    for (int t = -outward; t <= inward; t += 3)
-      for (int b = -inward; b <= outward; b += 3)
-        coarse_best = std::max(coarse_best, agreement_at(t * step, b * step));
+    for (int t = -outward; t <= inward; t += kCoarse) {
+      for (int b = -inward; b <= outward; b += kCoarse) {
+        const double agreement = agreement_at(t * step, b * step);
+        coarse.emplace_back(t, b, agreement);
+        coarse_best = std::max(coarse_best, agreement);
+      }
+    }
     if (coarse_best < settings_.candidate_min_coarse_agreement) return out;
+    for (const auto& [t, b, agreement] : coarse) {
+      if (agreement < coarse_best - kCoarseTolerance) continue;
+      for (int dt = -kCoarse + 1; dt < kCoarse; ++dt)
+        for (int db = -kCoarse + 1; db < kCoarse; ++db)
+          if (t + dt >= -outward && t + dt <= inward && b + db >= -inward && b + db <= outward)
+            wanted[index(t + dt, b + db)] = 1;
+    }
   }
   double best_agreement = -1;
   std::vector<std::pair<double, double>> best;
@@ -65,7 +97,7 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
     for (int b = -inward; b <= outward; ++b) {
       // Detections move as a whole (their sides were found in the image); candidates' sides
       // independently.
-      if (!candidate && b != t) continue;
+      if ((!candidate && b != t) || !wanted[index(t, b)]) continue;
       const double agreement = agreement_at(t * step, b * step);
       if (agreement < 0) continue;
       if (agreement > best_agreement + 1e-9) {
@@ -88,10 +120,35 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
       });
   out.shift_top = nearest->first;
   out.shift_bottom = nearest->second;
+  std::vector<MarkerSamples::Placed> placed;
   samples.place(out.shift_top, out.shift_bottom, placed);
   out.cells = read_cells(placed, book, read_options);
   out.read = true;
   out.decoded = decode_cells(book, out.cells.bits, limits(family));
+  if (candidate && out.decoded.accepted) {
+    // Every placing the fixed cells fit as well votes with what it reads: the reading must be the
+    // most common one and hold a good share. A dictionary whose every row is one of a few words
+    // (ArUco's original) turns a row read one ring off into another valid id with no error to
+    // show for it (measured: 40 cm ARUCO_ORIGINAL at 2 m on a VLP-16 Hi-Res, id 100 read as 84
+    // at the tied placings' mean in 1 of 10 scans, where the ties read 84 in a fifth of their
+    // decodings; right readings held 45-86 % of them).
+    std::map<std::pair<int, int>, int> votes;
+    int accepted = 0;
+    for (const auto& [t, b] : best) {
+      samples.place(t, b, placed);
+      const DecodeResult other =
+          decode_cells(book, read_cells(placed, book, read_options).bits, limits(family));
+      if (!other.accepted) continue;
+      ++accepted;
+      ++votes[{other.id, other.quarter_turns}];
+    }
+    const int own = votes[{out.decoded.id, out.decoded.quarter_turns}];
+    int strongest_other = 0;
+    for (const auto& [reading, count] : votes)
+      if (reading != std::make_pair(out.decoded.id, out.decoded.quarter_turns))
+        strongest_other = std::max(strongest_other, count);
+    if (own <= strongest_other || own < kMinTiedShare * accepted) out.decoded.accepted = false;
+  }
   return out;
 }
 
@@ -195,7 +252,8 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
 void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
                                     const ImageGeometry& detect_geometry,
                                     const ProjectedImage& image, const cv::Mat& intensity,
-                                    std::vector<Detection>& out) const {
+                                    std::vector<Detection>& out,
+                                    const std::function<bool(const Vec2&)>& known) const {
   if (books_.empty() || detect_gray.empty()) return;
   int min_cells = 1 << 30;
   for (const auto& entry : books_) min_cells = std::min(min_cells, entry.second->border_width());
@@ -206,6 +264,8 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
     std::array<Vec2, 4> projected;
     for (int k = 0; k < 4; ++k)
       projected[k] = map_pixel(corners[k], detect_geometry, image.geometry);
+    if (known && known(0.25 * (projected[0] + projected[1] + projected[2] + projected[3])))
+      continue;
     Detection best;
     for (const auto& [family, book] : books_) {
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.

@@ -67,9 +67,9 @@ struct PipelineOptions {
   // another id is corrected, one they confirm is kept even below min_samples_per_cell.
   bool ring_decode = true;
   // With ring_decode: also decode, from the ring samples, dark squares no detector decoded (the
-  // range beyond one ring per cell row). Off by default: about 10-15 ms a VLP-16 or Pandar64
-  // frame, more than the rest of the pipeline (docs/pipeline.md).
-  bool ring_candidates = false;
+  // range beyond one ring per cell row, and the ring phases where the detectors miss). Costs
+  // nothing without such a square, a few milliseconds a VLP-16 frame with one (docs/pipeline.md).
+  bool ring_candidates = true;
 };
 
 struct MarkerResult {

@@ -519,7 +519,7 @@ void register_pipeline(py::module_& m) {
            "Other keywords are `iilfm detect`'s options with '-' as '_' (threshold: number or "
            "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
            "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "
-           "--no-ring-decode; ring_candidates=True is --ring-candidates).\n"
+           "--no-ring-decode; ring_candidates=False is --no-ring-candidates).\n"
            "Raises InputError with the program's message for bad options, presets or maps.")
       .def("detect", &PyPipeline::detect, py::arg("points"),
            "Runs every stage on one frame. points: an (N, >=4) array of x, y, z, intensity[, ...] "

@@ -175,12 +175,12 @@ def test_paths_and_the_html_report(scan, pipeline, tmp_path):
 
 def test_ring_decoding_options_reach_the_pipeline():
     """A 1 m tag36h11 4.5 m from a VLP-16 is beyond what the detectors read (7 rings for its 8 cell
-    rows); ring_candidates=True decodes it from the rings (docs/pipeline.md, "Ring-sample
-    decoding"), and ring_decode=False turns the whole stage off."""
+    rows); the ring candidates (on by default) decode it from the rings (docs/pipeline.md,
+    "Ring-sample decoding"), and ring_decode=False turns the whole stage off."""
     cloud, _ = iilfm.simulate(sensor="vlp16", marker_size=1.0, distance=4.5, seed=1,
                               footprint=True, lidar_rpy=[0, -0.8, 0.5])
     def ids(**options):
         return [m.id for m in iilfm.Pipeline("vlp16", **options).detect(cloud).markers]
-    assert ids() == []
-    assert ids(ring_candidates=True) == [0]
-    assert ids(ring_candidates=True, ring_decode=False) == []
+    assert ids() == [0]
+    assert ids(ring_candidates=False) == []
+    assert ids(ring_decode=False) == []
