@@ -38,9 +38,43 @@ class Stopwatch {
 // The covariance of the fitted pose comes from the plane fit's uncertainty and the in-plane
 // scatter of the corners about the best affine image of the square (a shrink moves no pose), with
 // a prior of a tenth of a pixel; without a plane, from the residual alone.
+// A marker of one keypoint (a ring marker, whose code is the same at every turn): its centre and
+// the fitted plane's normal fix 5 of the 6 degrees of freedom. The marker's z is the normal
+// towards the LiDAR, its y the LiDAR's up as seen in the face (its x where the face is level),
+// and the covariance gives the turn about z the variance of a uniform turn.
+void estimate_centre_pose(MarkerResult& marker, const ImageGeometry& geometry) {
+  if (marker.corners.size() != 1 || !marker.corners[0].valid() || !marker.plane ||
+      !marker.plane->ok)
+    return;
+  const Plane& plane = *marker.plane;
+  const Vec3 centre = marker.corners[0].point;
+  const Vec3 z = plane.normal.dot(centre) < 0 ? plane.normal : Vec3(-plane.normal);
+  Vec3 up = Vec3::UnitZ() - z * z.z();
+  if (up.norm() < 0.1) up = Vec3::UnitX() - z * z.x();
+  const Vec3 y = up.normalized(), x = y.cross(z);
+  Isometry3 T = Isometry3::Identity();
+  T.linear() << x, y, z;
+  T.translation() = centre;
+  marker.T_lidar_marker = T;
+  marker.turn_known = false;
+  const double pixel_m = std::min(geometry.res_h, geometry.res_v) * centre.norm();
+  marker.corner_covariance = plane_corner_covariance({centre}, plane, 0.1 * pixel_m);
+  // A slope b along the plane's axis a tilts the normal by -b a: a rotation of z x (-b a).
+  Mat6 C = Mat6::Zero();
+  for (int k = 0; k < 2; ++k) {
+    const Vec3 axis = k == 0 ? plane.axis1 : plane.axis2;
+    const Vec3 turn = T.linear().transpose() * z.cross(axis);
+    C.topLeftCorner<3, 3>() += plane.slope_variance(k) * turn * turn.transpose();
+  }
+  C(2, 2) = M_PI * M_PI / 3;  // uniform over (-pi, pi]
+  C.bottomRightCorner<3, 3>() = marker.corner_covariance;
+  marker.T_lidar_marker_covariance = C;
+}
+
 void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
                           const ImageGeometry& geometry, double edge_sigma_px) {
   const std::vector<Vec3> model = marker_frame_keypoints(marker.detection, size);
+  if (model.size() == 1) return estimate_centre_pose(marker, geometry);
   std::vector<Vec3> source, target;
   for (std::size_t k = 0; k < marker.corners.size() && k < model.size(); ++k) {
     if (!marker.corners[k].valid()) continue;

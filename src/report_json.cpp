@@ -79,6 +79,9 @@ json marker_json(const MarkerResult& m, const ProjectedImage& image) {
     out["T_lidar_marker"] = matrix_json(*m.T_lidar_marker);
     out["marker_fit_rms_m"] = round_to(m.marker_fit_rms, 1e-6);
     add_uncertainty(out, *m.T_lidar_marker, m.T_lidar_marker_covariance);
+    // A ring marker's code is the same at every turn: its pose's turn about the normal is a
+    // convention, not a measurement.
+    if (!m.turn_known) out["turn_about_normal_known"] = false;
   } else {
     out["T_lidar_marker"] = nullptr;
   }

@@ -48,14 +48,24 @@ struct Claimed {
   double position_sigma = 0, rotation_sigma_deg = 0, nees = 0;
 };
 
-Claimed claimed(const Isometry3& estimated, const Isometry3& truth, const Mat6& C) {
+// The truth turned about its own z to agree with `estimated` about it: for a marker whose turn
+// is unknowable only the face's tilt is an error.
+Mat3 turned_like(const Mat3& truth, const Mat3& estimated) {
+  const Vec3 x = truth.transpose() * estimated.col(0);
+  return truth * Eigen::AngleAxisd(std::atan2(x.y(), x.x()), Vec3::UnitZ()).toRotationMatrix();
+}
+
+Claimed claimed(const Isometry3& estimated, const Isometry3& truth, const Mat6& C,
+                bool turn_known = true) {
   Eigen::Matrix<double, 6, 1> e;
   const Eigen::AngleAxisd turn(estimated.linear().transpose() * truth.linear());
   e.head<3>() = turn.angle() * turn.axis();
   e.tail<3>() = truth.translation() - estimated.translation();
   Claimed out;
   out.position_sigma = std::sqrt(std::max(0.0, C.bottomRightCorner<3, 3>().trace()));
-  out.rotation_sigma_deg = std::sqrt(std::max(0.0, C.topLeftCorner<3, 3>().trace())) * kRadToDeg;
+  const int rotation_axes = turn_known ? 3 : 2;  // without the turn: the tilt's two axes
+  out.rotation_sigma_deg =
+      std::sqrt(std::max(0.0, C.topLeftCorner(rotation_axes, rotation_axes).trace())) * kRadToDeg;
   const Eigen::LDLT<Mat6> ldlt(C);
   out.nees = ldlt.info() == Eigen::Success ? e.dot(ldlt.solve(e)) : 0;
   return out;
@@ -135,10 +145,13 @@ CaseScore score_frame(const FrameResult& result, const sim::GroundTruth& truth) 
     if (detected.T_lidar_marker) {
       marker_position_sum +=
           (detected.T_lidar_marker->translation() - m.T_lidar_marker.translation()).norm();
+      Isometry3 true_pose = m.T_lidar_marker;
+      if (!detected.turn_known)
+        true_pose.linear() = turned_like(true_pose.linear(), detected.T_lidar_marker->linear());
       marker_rotation_sum +=
-          rotation_angle_deg(detected.T_lidar_marker->linear(), m.T_lidar_marker.linear());
-      const Claimed c =
-          claimed(*detected.T_lidar_marker, m.T_lidar_marker, detected.T_lidar_marker_covariance);
+          rotation_angle_deg(detected.T_lidar_marker->linear(), true_pose.linear());
+      const Claimed c = claimed(*detected.T_lidar_marker, true_pose,
+                                detected.T_lidar_marker_covariance, detected.turn_known);
       marker_position_sigma_sum += c.position_sigma;
       marker_rotation_sigma_sum += c.rotation_sigma_deg;
       marker_nees_sum += c.nees;

@@ -78,7 +78,13 @@ struct MarkerResult {
   // The corners as lifted, before the known-size square replaced them (empty when it did not):
   // the LiDAR pose is fitted to these, so its residual still measures the detection.
   std::vector<Vec3> lifted_points;
-  std::optional<Isometry3> T_lidar_marker;  // when the size is known and >= 3 corners lifted
+  // When the size is known and >= 3 corners lifted, or for a marker of one keypoint (a ring
+  // marker's centre) its centre and fitted plane.
+  std::optional<Isometry3> T_lidar_marker;
+  // False for a marker whose code is the same at every turn (ring markers): T_lidar_marker's turn
+  // about the face normal is then a convention (y as near the LiDAR's up as the face allows), not
+  // a measurement, and its covariance says so (a turn uniform over the circle).
+  bool turn_known = true;
   double marker_fit_rms = 0;  // residual of that fit, metres: how far from a square of that size
   // Covariance of T_lidar_marker, 6x6 (pose_covariance.hpp: marker-frame rotation, centre in the
   // LiDAR frame), and the joint covariance (3n x 3n) of the n lifted corners it was fitted to

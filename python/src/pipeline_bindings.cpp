@@ -120,6 +120,7 @@ struct Marker {
   double marker_fit_rms = 0, decision_margin = 0, coverage = 0;
   int hamming = 0;
   bool in_map = false;
+  bool turn_known = true;
 };
 
 struct Pose {
@@ -167,6 +168,7 @@ Marker marker_of(const MarkerResult& m, const ProjectedImage& image) {
   out.decision_margin = m.detection.decision_margin;
   out.hamming = m.detection.hamming;
   out.in_map = m.in_map;
+  out.turn_known = m.turn_known;
   out.coverage = marker_coverage(m.detection, image);
   return out;
 }
@@ -316,6 +318,9 @@ void register_pipeline(py::module_& m) {
       .def_readonly("T_lidar_marker", &Marker::T_lidar_marker,
                     "(4, 4) float64 marker pose in the LiDAR frame, or None when the size is "
                     "unknown (give map= or marker_size=)")
+      .def_readonly("turn_known", &Marker::turn_known,
+                    "False for ring markers: T_lidar_marker's turn about the face normal is a "
+                    "convention (y as near the LiDAR's up as the face allows), not measured")
       .def_readonly("marker_fit_rms", &Marker::marker_fit_rms,
                     "metres: how far the lifted corners were from a square of the known size")
       .def_readonly("hamming", &Marker::hamming, "bits corrected while decoding")

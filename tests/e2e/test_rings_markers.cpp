@@ -90,14 +90,20 @@ TEST(SimRings, ThreeRingMarkersOnAWallAreFoundAndGiveOnePose) {
         const std::string what = what_text;
         std::printf(
             "[ measured ] Mid-40, three 30 cm %s: found %d/3, worst centre %.2f mm, LiDAR "
-            "%.2f mm %.3f deg\n",
+            "%.2f mm %.3f deg; one marker's own pose: face %.3f deg (claimed %.3f), NEES %.1f\n",
             what.c_str(), score.detected, centre_error * 1000,
             score.pose ? score.position_error * 1000 : -1.0,
-            score.pose ? score.rotation_error_deg : -1.0);
+            score.pose ? score.rotation_error_deg : -1.0, score.marker_rotation_error_mean_deg,
+            score.marker_rotation_sigma_mean_deg, score.marker_nees_mean);
         EXPECT_EQ(score.detected, 3) << what;
         EXPECT_EQ(score.false_positives + score.wrong_ids, 0) << what;
         EXPECT_EQ(matched, 3) << what;
         EXPECT_LT(centre_error, 0.0015) << what;
+        // Each marker alone: its centre and the fitted plane's normal, the turn about the normal
+        // a convention (measured face error 0.08-0.18 deg).
+        EXPECT_EQ(score.marker_poses, 3) << what;
+        EXPECT_LT(score.marker_rotation_error_mean_deg, 0.4) << what;
+        for (const MarkerResult& m : s.result.markers) EXPECT_FALSE(m.turn_known) << what;
         ASSERT_TRUE(s.result.pose) << what << ": " << s.result.pose_missing_reason;
         EXPECT_EQ(s.result.pose->markers_used.size(), 3u) << what;
         EXPECT_LT(score.position_error, 0.006) << what;
