@@ -20,6 +20,12 @@ SuiteSetup mid40_at(double distance_m, int frames) {
   s.spec.sensor = "mid40";
   s.spec.scene_params.distance_m = distance_m;
   s.spec.frames = frames;
+  s.published =
+      "Published (the paper's Table 1: a real Mid-40 against motion capture, one run per row; "
+      "LiDAR position error = length of its x, y, z errors, rotation error ~ root sum square of "
+      "its roll, pitch, yaw errors): 2 m, 40 frames 109 mm / 4.6 deg, 100 frames 18 mm / 2.2 "
+      "deg; 3 m, 40 frames 35 mm / 3.2 deg, 100 frames 99 mm / 1.9 deg; 4 m, 40 frames 154 mm / "
+      "3.5 deg, 100 frames 112 mm / 0.7 deg.";
   return s;
 }
 
@@ -29,6 +35,10 @@ SuiteSetup mid40_turned(const char* axis, double degrees) {
   s.group = "Table 2: Mid-40, 2 m, 40 frames, LiDAR pitched or yawed";
   const bool pitch = std::string(axis) == "pitch";
   s.spec.lidar_rpy_deg = pitch ? Vec3(0, degrees, 0) : Vec3(0, 0, degrees);
+  s.published =
+      "Published (the paper's Table 2: the real Mid-40 at 2 m, 40 frames, same measures): pitch "
+      "-15 deg 103 mm / 6.5 deg, pitch +15 deg 97 mm / 5.7 deg, yaw -15 deg 383 mm / 3.0 deg, yaw "
+      "+15 deg 75 mm / 4.9 deg.";
   char name[64];
   std::snprintf(name, sizeof name, "Mid-40, 2 m, 40 frames, %s %+g deg", axis, degrees);
   s.name = name;
@@ -39,6 +49,10 @@ SuiteSetup ccw10m() {
   SuiteSetup s;
   s.group = "Table 3: ULTRA Puck, LiDARTag's ccw_10m";
   s.name = "ULTRA Puck, ccw10m (0.915 m tag16h5 at 10 m, turned 45 deg)";
+  s.published =
+      "Published (the paper's Table 3, on LiDARTag's real ccw_10m recording, whose ground-truth "
+      "vertices are 0.915 m apart): mean vertex error IILFM 32.8 mm (worst corner 44 mm), "
+      "LiDARTag 16.3 mm (worst 22 mm); no pose errors published.";
   s.spec.scene = "ccw10m";
   s.spec.sensor = "ultrapuck";
   s.spec.frames = 1;
