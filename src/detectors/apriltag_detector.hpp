@@ -13,9 +13,11 @@ namespace iilfm::detail {
 std::unique_ptr<MarkerDetector> make_apriltag_detector(const std::string& tag_family,
                                                        const AprilTagOptions& options);
 
-// Per-family default of bits to correct: enough to survive LiDAR noise, few enough to keep
-// small families (tag16h5) from decoding noise and big ones quick to set up.
-int default_max_hamming(int family_min_distance, std::uint32_t family_codes);
+// Per-family default of bits to correct: enough to survive LiDAR noise, few enough that a random
+// quad decodes at most once in kMaxChanceMatch tries (4 turns x codes x words within the bits
+// corrected, over all 2^bits words) and big families stay quick to set up.
+constexpr double kMaxChanceMatch = 2e-4;
+int default_max_hamming(int family_min_distance, std::uint32_t family_codes, int family_bits);
 
 FamilyLayout apriltag_layout(const std::string& tag_family);
 

@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "../../src/detectors/apriltag_detector.hpp"
 #include "apriltag_render.hpp"
 #include "iilfm/detector.hpp"
 #include "iilfm/error.hpp"
@@ -103,6 +104,19 @@ TEST(AprilTagDetector, MirroredTagDoesNotDecodeAsItself) {
   std::vector<Detection> found;
   make_detector("apriltag:tag36h11")->detect(mirrored, found);
   for (const Detection& d : found) EXPECT_NE(d.id, 0);
+}
+
+// Bits corrected by default (docs/pipeline.md): (h - 1) / 2 - 2, at most 2 (1 for families of
+// more than 5000 codes), fewer while a random quad would decode more often than once in 5000.
+TEST(AprilTagDetector, DefaultCorrectionKeepsChanceMatchesRare) {
+  using detail::default_max_hamming;
+  EXPECT_EQ(default_max_hamming(11, 587, 36), 2);    // tag36h11: 2.3e-5 at 2 bits
+  EXPECT_EQ(default_max_hamming(10, 2320, 36), 2);   // tag36h10: 9.0e-5
+  EXPECT_EQ(default_max_hamming(12, 2115, 41), 2);   // tagStandard41h12
+  EXPECT_EQ(default_max_hamming(13, 48714, 52), 1);  // tagStandard52h13: the table's size
+  EXPECT_EQ(default_max_hamming(9, 35, 25), 1);      // tag25h9: 1.4e-3 at 2 bits, 1.1e-4 at 1
+  EXPECT_EQ(default_max_hamming(7, 38, 21), 0);      // tagCircle21h7: 1.6e-3 at 1 bit
+  EXPECT_EQ(default_max_hamming(5, 30, 16), 0);      // tag16h5
 }
 
 TEST(DetectorRegistry, RejectsUnknownFamiliesWithAHint) {
