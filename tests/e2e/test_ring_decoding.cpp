@@ -31,6 +31,18 @@ eval::SimulatedCase wall_case(const std::string& sensor, const std::string& fami
   return eval::simulate_case(spec, static_cast<std::uint64_t>(seed));
 }
 
+// Release builds run `release` seeds; unoptimised (sanitizer) builds, which simulate the beam
+// footprint 20-40x slower, run `sanitizer`.
+constexpr int seeds(int release, int sanitizer) {
+#ifdef NDEBUG
+  (void)sanitizer;
+  return release;
+#else
+  (void)release;
+  return sanitizer;
+#endif
+}
+
 struct Counts {
   int found = 0, wrong = 0;
 };
@@ -47,11 +59,7 @@ void score(const eval::SimulatedCase& c, Change change, Counts& counts) {
 }
 
 TEST(RingDecoding, Vlp16ReadsAOneMetreTag36h11BeyondThreeMetres) {
-#ifdef NDEBUG
-  constexpr int kSeeds = 10;
-#else
-  constexpr int kSeeds = 2;  // sanitizer builds simulate the footprint 20-40x slower
-#endif
+  constexpr int kSeeds = seeds(10, 2);
   Counts with, without;
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const eval::SimulatedCase c = wall_case("vlp16", "apriltag:tag36h11", 0, 1.0, 4.5, seed, false);
@@ -108,11 +116,7 @@ TEST(RingDecoding, ArucoOriginalAtOnePointSixRingsPerCellIsKeptOrCorrected) {
 // seed to seed, and the detectors with the ring check miss the marker where the rings fall near
 // cell edges. The candidates read it from the rings.
 TEST(RingDecoding, ArucoOriginalOnAVlp16HiResIsFoundAtAnyRingPhase) {
-#ifdef NDEBUG
-  constexpr int kSeeds = 10;
-#else
-  constexpr int kSeeds = 3;
-#endif
+  constexpr int kSeeds = seeds(10, 3);
   for (const double distance : {1.5, 2.0}) {
     Counts with, without;
     for (int seed = 1; seed <= kSeeds; ++seed) {
@@ -145,11 +149,7 @@ TEST(RingDecoding, ArucoOriginalOnAVlp16HiResIsFoundAtAnyRingPhase) {
 // ArUco dictionary, the stage must not decode a tag16h5 or a DICT_4X4_50 marker as one of them,
 // at any distance from where the detectors read them to where only a blob is left.
 TEST(RingDecoding, OtherFamiliesSquaresAreNotDecoded) {
-#ifdef NDEBUG
-  constexpr int kSeeds = 50;
-#else
-  constexpr int kSeeds = 4;
-#endif
+  constexpr int kSeeds = seeds(50, 4);
   const char* sensors[] = {"vlp16", "vlp16-hires", "os1-64"};
   const char* families[] = {"apriltag:tag16h5", "aruco:DICT_4X4_50"};
   int made_up = 0, scans = 0;
