@@ -229,22 +229,55 @@ void classify_holes(const cv::Mat& valid, int block, cv::Mat& detect, Preprocess
       }
     }
   }
-  // The class of each block, spread out to one byte per column of its band of rows.
-  out.hole_class.create(bh, cols, CV_8U);
+  // Each block with the 8 around it: sums across (a block and its left and right neighbours),
+  // then down (three rows of those), in loops without a bound per block, so they vectorise.
+  out.across_white.resize(blocks);
+  out.across_observed.resize(blocks);
   for (int br = 0; br < bh; ++br) {
-    std::uint8_t* expanded = out.hole_class.ptr<std::uint8_t>(br);
+    const std::size_t row = static_cast<std::size_t>(br) * bw;
+    const int* __restrict w = out.block_white.data() + row;
+    const int* __restrict n = out.block_observed.data() + row;
+    int* __restrict aw = out.across_white.data() + row;
+    int* __restrict an = out.across_observed.data() + row;
     for (int bc = 0; bc < bw; ++bc) {
-      int w = 0, n = 0;
-      for (int r = std::max(0, br - 1); r <= std::min(bh - 1, br + 1); ++r) {
-        for (int c = std::max(0, bc - 1); c <= std::min(bw - 1, bc + 1); ++c) {
-          const std::size_t i = static_cast<std::size_t>(r) * bw + c;
-          w += out.block_white[i];
-          n += out.block_observed[i];
-        }
-      }
-      const std::uint8_t cls = (n == 0 || 2 * w > n) ? 255 : 0;
-      std::fill(expanded + bc * block, expanded + std::min(cols, (bc + 1) * block), cls);
+      aw[bc] = w[bc];
+      an[bc] = n[bc];
     }
+    for (int bc = 1; bc < bw; ++bc) {
+      aw[bc] += w[bc - 1];
+      an[bc] += n[bc - 1];
+    }
+    for (int bc = 0; bc + 1 < bw; ++bc) {
+      aw[bc] += w[bc + 1];
+      an[bc] += n[bc + 1];
+    }
+  }
+  // The class of each block, then spread out to one byte per column of its band of rows.
+  out.block_class.resize(static_cast<std::size_t>(bw));
+  std::uint8_t* __restrict cls = out.block_class.data();
+  out.hole_class.create(bh, cols, CV_8U);
+  const int whole = cols / block;  // blocks whose `block` columns all lie in the image
+  for (int br = 0; br < bh; ++br) {
+    const auto at = [&](const std::vector<int>& v, int r) {
+      return v.data() + static_cast<std::size_t>(std::clamp(r, 0, bh - 1)) * bw;
+    };
+    // Rows off the image count nothing: their weight is 0.
+    const int above = br > 0 ? 1 : 0, below = br + 1 < bh ? 1 : 0;
+    const int* __restrict w0 = at(out.across_white, br - 1);
+    const int* __restrict w1 = at(out.across_white, br);
+    const int* __restrict w2 = at(out.across_white, br + 1);
+    const int* __restrict n0 = at(out.across_observed, br - 1);
+    const int* __restrict n1 = at(out.across_observed, br);
+    const int* __restrict n2 = at(out.across_observed, br + 1);
+    for (int bc = 0; bc < bw; ++bc) {
+      const int w = above * w0[bc] + w1[bc] + below * w2[bc];
+      const int n = above * n0[bc] + n1[bc] + below * n2[bc];
+      cls[bc] = (n == 0 || 2 * w > n) ? 255 : 0;
+    }
+    std::uint8_t* __restrict expanded = out.hole_class.ptr<std::uint8_t>(br);
+    for (int k = 0; k < block; ++k)
+      for (int bc = 0; bc < whole; ++bc) expanded[bc * block + k] = cls[bc];
+    for (int c = whole * block; c < cols; ++c) expanded[c] = cls[whole];
   }
   for (int r = 0; r < rows; ++r) {
     const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);

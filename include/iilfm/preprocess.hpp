@@ -60,6 +60,8 @@ struct PreprocessedImage {
   Buffers work[2];
   // Hole classes: counts per column and per block, the class per band of rows and column.
   std::vector<int> column_white, column_observed, block_white, block_observed;
+  std::vector<int> across_white, across_observed;  // each block with its left and right ones
+  std::vector<std::uint8_t> block_class;
   cv::Mat hole_class;
   cv::Mat normalised;  // the normalised intensity (when normalisation is on)
   NormalisationBuffers normalise_work;

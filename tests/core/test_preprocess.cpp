@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "iilfm/preprocess.hpp"
 
 namespace iilfm {
@@ -101,6 +103,53 @@ TEST(Preprocess, UnfillableHolesTakeTheClassOfTheirSurroundings) {
   opt.hole_class_block = 0;  // the constant instead
   preprocess(img, opt, out);
   EXPECT_EQ(out.detect.at<uchar>(4, 10), 0);
+}
+
+// Every hole against a direct count: the observed pixels of its block and the 8 around (blocks
+// at the image's edges cut short, odd sizes, two block sizes), majority white or nothing observed
+// gives white.
+TEST(Preprocess, HoleClassesMatchADirectCountOfTheBlocksAround) {
+  std::mt19937 rng(5);
+  std::bernoulli_distribution seen(0.08), light(0.5);
+  ProjectedImage img;
+  img.intensity = cv::Mat(37, 53, CV_32F, cv::Scalar(0));
+  img.mask = cv::Mat(37, 53, CV_8U, cv::Scalar(0));
+  img.range = cv::Mat(37, 53, CV_32F, cv::Scalar(2));
+  for (int r = 0; r < 37; ++r) {
+    for (int c = 0; c < 53; ++c) {
+      if (!seen(rng)) continue;
+      img.mask.at<uchar>(r, c) = 255;
+      img.intensity.at<float>(r, c) = light(rng) ? 120.0f : 10.0f;
+    }
+  }
+  for (const int block : {2, 3}) {
+    PreprocessOptions opt;
+    opt.threshold = 60;
+    opt.hole_class_block = block;
+    PreprocessedImage out;
+    preprocess(img, opt, out);
+    const int bh = (37 + block - 1) / block, bw = (53 + block - 1) / block;
+    int holes = 0;
+    for (int r = 0; r < 37; ++r) {
+      for (int c = 0; c < 53; ++c) {
+        if (out.valid.at<uchar>(r, c)) continue;
+        ++holes;
+        int white = 0, observed = 0;
+        for (int br = std::max(0, r / block - 1); br <= std::min(bh - 1, r / block + 1); ++br)
+          for (int bc = std::max(0, c / block - 1); bc <= std::min(bw - 1, c / block + 1); ++bc)
+            for (int y = br * block; y < std::min(37, (br + 1) * block); ++y)
+              for (int x = bc * block; x < std::min(53, (bc + 1) * block); ++x) {
+                if (!out.valid.at<uchar>(y, x)) continue;
+                ++observed;
+                white += out.detect.at<uchar>(y, x) == 255;  // observed: its own class
+              }
+        const int expected = observed == 0 || 2 * white > observed ? 255 : 0;
+        ASSERT_EQ(out.detect.at<uchar>(r, c), expected)
+            << "block " << block << ", hole (" << r << ", " << c << ")";
+      }
+    }
+    EXPECT_GT(holes, 37 * 53 / 2) << "filling closed the gaps: the test checks too little";
+  }
 }
 
 TEST(Preprocess, OtsuSplitsTheTwoLevels) {
