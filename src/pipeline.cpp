@@ -31,13 +31,6 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// Pose of a square marker from its lifted corners, when its size is known. With `fit_square`
-// and all four corners lifted, the corners are replaced by the least-squares square of that size
-// in the fitted pose (their independent errors average out); the fit's RMS says how far the
-// detection was from that square.
-// The covariance of the fitted pose comes from the plane fit's uncertainty and the in-plane
-// scatter of the corners about the best affine image of the square (a shrink moves no pose), with
-// a prior of a tenth of a pixel; without a plane, from the residual alone.
 // A marker of one keypoint (a ring marker, whose code is the same at every turn): its centre and
 // the fitted plane's normal fix 5 of the 6 degrees of freedom. The marker's z is the normal
 // towards the LiDAR, its y the LiDAR's up as seen in the face (its x where the face is level),
@@ -71,8 +64,18 @@ void estimate_centre_pose(MarkerResult& marker, const ImageGeometry& geometry) {
   marker.T_lidar_marker_covariance = C;
 }
 
+// Pose of a square marker from its lifted corners, when its size is known. With `fit_square`
+// and all four corners lifted, the corners are replaced by the least-squares square of that size
+// in the fitted pose (their independent errors average out); the fit's RMS says how far the
+// detection was from that square.
+// The covariance of the fitted pose comes from the plane fit's uncertainty and the in-plane
+// scatter of the corners about the best affine image of the square (a shrink moves no pose), with
+// a prior of a tenth of a pixel, plus the pixel grid's error on the square's edges
+// (edge_offset_covariance); without a plane, from the residual alone. A marker of one keypoint
+// goes to estimate_centre_pose.
 void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
-                          const ImageGeometry& geometry, double edge_sigma_px) {
+                          const ProjectedImage& image, double edge_sigma_px) {
+  const ImageGeometry& geometry = image.geometry;
   const std::vector<Vec3> model = marker_frame_keypoints(marker.detection, size);
   if (model.size() == 1) return estimate_centre_pose(marker, geometry);
   std::vector<Vec3> source, target;
@@ -91,9 +94,15 @@ void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
     const double sigma = in_plane_sigma(residual_sq, target.size(), 0.1 * pixel_m);
     marker.corner_covariance = plane_corner_covariance(target, *marker.plane, sigma);
     if (edge_sigma_px > 0 && marker.detection.keypoints_marker.empty() &&
-        source.size() == marker.detection.corners_px.size())
+        source.size() == marker.detection.corners_px.size()) {
+      // Each sample that falls at its own place within its pixel (integrated non-repetitive
+      // scans, averaged per pixel) adds a phase to an edge; a spinning LiDAR's samples sit on the
+      // same grid sweep after sweep.
+      if (!geometry.ring_rows())
+        edge_sigma_px /= std::sqrt(std::max(1.0, marker_points_per_pixel(marker.detection, image)));
       marker.corner_covariance +=
           edge_offset_covariance(source, marker.detection.corners_px, fit.T, edge_sigma_px);
+    }
   } else {
     const double dof = std::max(1.0, 3.0 * static_cast<double>(target.size()) - 6);
     const double variance = fit.rms * fit.rms * static_cast<double>(target.size()) / dof;
@@ -316,16 +325,8 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     marker.in_map = mapped != nullptr;
     const std::optional<double> size =
         mapped ? std::optional<double>(mapped->size) : options_.marker_size;
-    if (size) {
-      // Each sample that falls at its own place within its pixel (integrated non-repetitive
-      // scans, averaged per pixel) adds a phase to an edge; a spinning LiDAR's samples sit on the
-      // same grid sweep after sweep.
-      double edge_sigma_px = options_.edge_sigma_px;
-      if (edge_sigma_px > 0 && !r.image.geometry.ring_rows())
-        edge_sigma_px /=
-            std::sqrt(std::max(1.0, marker_points_per_pixel(marker.detection, r.image)));
-      estimate_marker_pose(marker, *size, options_.fit_known_size, r.image.geometry, edge_sigma_px);
-    }
+    if (size)
+      estimate_marker_pose(marker, *size, options_.fit_known_size, r.image, options_.edge_sigma_px);
     r.markers.push_back(std::move(marker));
   }
   r.times_ms.lift = watch.lap_ms();
