@@ -27,6 +27,7 @@ def assert_same_as_cli(result, cli):
         np.testing.assert_allclose(m.corners_lidar, theirs["corners_lidar"], rtol=0, atol=0.6e-6)
         assert m.corners_px.shape == (4, 2) and m.corners_lidar.shape == (4, 3)
         assert m.T_lidar_marker.shape == (4, 4)
+        assert m.turn_known and "turn_about_normal_known" not in theirs  # a square's turn is seen
     np.testing.assert_allclose(result.pose.T_world_lidar, cli["pose"]["T_world_lidar"], atol=1e-9)
 
 
@@ -184,3 +185,19 @@ def test_ring_decoding_options_reach_the_pipeline():
     assert ids() == [0]
     assert ids(ring_candidates=False) == []
     assert ids(ring_decode=False) == []
+
+
+def test_a_ring_marker_alone_has_a_pose_whose_turn_is_a_convention():
+    """A ring marker's code is the same at every turn: its centre and the fitted plane give its
+    pose, y taken as the LiDAR's up seen in the face (docs/detectors.md)."""
+    cloud, truth = iilfm.simulate(sensor="mid40", seed=1, distance=2.0, family="rings:ring9h3",
+                                  id=5, marker_size=0.3)
+    markers = iilfm.Pipeline("mid40", ["rings:ring9h3"], marker_size=0.3).detect(cloud).markers
+    assert [m.id for m in markers] == [5]
+    assert not markers[0].turn_known
+    estimated, true = markers[0].T_lidar_marker, np.array(truth["markers"][0]["T_lidar_marker"])
+    assert np.linalg.norm(estimated[:3, 3] - true[:3, 3]) < 0.005
+    # The face normal within half a degree; an upright marker seen by a level LiDAR also has
+    # the conventional turn right.
+    assert np.degrees(np.arccos(np.clip(estimated[:3, 2] @ true[:3, 2], -1, 1))) < 0.5
+    assert estimated[:3, 1] @ true[:3, 1] > np.cos(np.radians(0.5))
