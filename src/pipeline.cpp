@@ -31,6 +31,11 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// The finer side of a pixel, in metres, at `point`: the unit of the corners' in-plane prior.
+double pixel_metres(const ImageGeometry& geometry, const Vec3& point) {
+  return std::min(geometry.res_h, geometry.res_v) * point.norm();
+}
+
 // A marker of one keypoint (a ring marker, whose code is the same at every turn): its centre and
 // the fitted plane's normal fix 5 of the 6 degrees of freedom. The marker's z is the normal
 // towards the LiDAR, its y the LiDAR's up as seen in the face (its x where the face is level),
@@ -50,7 +55,7 @@ void estimate_centre_pose(MarkerResult& marker, const ImageGeometry& geometry) {
   T.translation() = centre;
   marker.T_lidar_marker = T;
   marker.turn_known = false;
-  const double pixel_m = std::min(geometry.res_h, geometry.res_v) * centre.norm();
+  const double pixel_m = pixel_metres(geometry, centre);
   marker.corner_covariance = plane_corner_covariance({centre}, plane, 0.1 * pixel_m);
   // A slope b along the plane's axis a tilts the normal by -b a: a rotation of z x (-b a).
   Mat6 C = Mat6::Zero();
@@ -89,7 +94,7 @@ void estimate_marker_pose(MarkerResult& marker, double size, bool fit_square,
   marker.T_lidar_marker = fit.T;
   marker.marker_fit_rms = fit.rms;
   if (marker.plane && marker.plane->ok) {
-    const double pixel_m = std::min(geometry.res_h, geometry.res_v) * fit.T.translation().norm();
+    const double pixel_m = pixel_metres(geometry, fit.T.translation());
     const double residual_sq = affine_residual_sq(source, target, fit.T);
     const double sigma = in_plane_sigma(residual_sq, target.size(), 0.1 * pixel_m);
     marker.corner_covariance = plane_corner_covariance(target, *marker.plane, sigma);
