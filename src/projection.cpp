@@ -129,7 +129,41 @@ AngularBounds extent_of(const float* azimuth, const float* elevation, const floa
   return AngularBounds{az_min, az_max, el_min, el_max};
 }
 
+// Written so that GCC 12 vectorises it (it was scalar before: 5 ms of a 600k-point Mid-40
+// projection): restrict pointers, a loop-invariant policy, unsigned comparisons of the count and
+// a signed conversion to float (a signed comparison alone kept it scalar).
+template <typename Accumulator>
+void write_block(const Accumulator* __restrict pixels, std::size_t n, bool nearest,
+                 float* __restrict range, float* __restrict intensity,
+                 std::uint8_t* __restrict mask, std::int32_t* __restrict index,
+                 std::int32_t* __restrict count) {
+  for (std::size_t p = 0; p < n; ++p) {
+    const Accumulator& px = pixels[p];
+    const std::uint32_t n_px = px.count_offset & Accumulator::kCountMask;
+    const auto n_signed = static_cast<std::int32_t>(n_px);
+    const float scale = (nearest || n_px <= 1) ? 1.0f : 1.0f / static_cast<float>(n_signed);
+    range[p] = px.range_sum * scale;
+    intensity[p] = px.intensity_sum * scale;
+    mask[p] = n_px > 0 ? 255 : 0;
+    index[p] = n_px > 0 ? px.index : -1;
+    count[p] = n_signed;
+  }
+}
 }  // namespace
+
+void SphericalProjector::write_images(PixelAccumulator* pixels, std::size_t total, bool nearest,
+                                      float* range, float* intensity, std::uint8_t* mask,
+                                      std::int32_t* index, std::int32_t* count) {
+  // Block by block, clearing each block for the next frame while it is still in L1: cheaper than
+  // a separate pass over the whole array (9 MB for a Mid-40 image).
+  constexpr std::size_t kBlock = 1024;
+  for (std::size_t begin = 0; begin < total; begin += kBlock) {
+    const std::size_t n = std::min(kBlock, total - begin);
+    write_block(pixels + begin, n, nearest, range + begin, intensity + begin, mask + begin,
+                index + begin, count + begin);
+    std::memset(static_cast<void*>(pixels + begin), 0, n * sizeof(PixelAccumulator));
+  }
+}
 
 void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   const std::size_t n = cloud.size();
@@ -217,8 +251,12 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   // visits pixels in scattered order, so each point's pixel is a cache miss: prefetch the pixel of
   // a point some iterations ahead so the misses overlap.
   const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
+  // Pass 4 clears every accumulator it reads, which saves a separate pass over them; only a frame
+  // that stopped between the passes (an exception) leaves them to be cleared here.
+  if (!pixels_clear_)
+    std::memset(static_cast<void*>(pixels_.data()), 0, pixels_.size() * sizeof(PixelAccumulator));
   pixels_.resize(total);
-  std::memset(static_cast<void*>(pixels_.data()), 0, total * sizeof(PixelAccumulator));
+  pixels_clear_ = false;
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
   const StridedColumn<float> intensities = cloud.intensity;
   constexpr std::size_t kAhead = 32;
@@ -262,21 +300,10 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   out.mask.create(geo.height, geo.width, CV_8U);
   out.index.create(geo.height, geo.width, CV_32S);
   out.count.create(geo.height, geo.width, CV_32S);
-  float* intensity = out.intensity.ptr<float>();
-  float* range = out.range.ptr<float>();
-  std::uint8_t* mask = out.mask.ptr<std::uint8_t>();
-  std::int32_t* index = out.index.ptr<std::int32_t>();
-  std::int32_t* count = out.count.ptr<std::int32_t>();
-  for (std::size_t p = 0; p < total; ++p) {
-    const PixelAccumulator& px = pixels_[p];
-    const std::uint32_t n_px = px.count_offset & PixelAccumulator::kCountMask;
-    const float scale = (nearest || n_px <= 1) ? 1.0f : 1.0f / static_cast<float>(n_px);
-    range[p] = px.range_sum * scale;
-    intensity[p] = px.intensity_sum * scale;
-    mask[p] = n_px > 0 ? 255 : 0;
-    index[p] = n_px > 0 ? px.index : -1;
-    count[p] = static_cast<std::int32_t>(n_px);
-  }
+  write_images(pixels_.data(), total, nearest, out.range.ptr<float>(), out.intensity.ptr<float>(),
+               out.mask.ptr<std::uint8_t>(), out.index.ptr<std::int32_t>(),
+               out.count.ptr<std::int32_t>());
+  pixels_clear_ = true;
   out.points_projected = projected;
   out.stamp = next_projection_stamp();
 }

@@ -150,10 +150,16 @@ class SphericalProjector {
   };
   static_assert(sizeof(PixelAccumulator) == 16, "four accumulators per cache line");
 
+  // Pass 4: the accumulators turned into the images, and cleared.
+  static void write_images(PixelAccumulator* pixels, std::size_t total, bool nearest, float* range,
+                           float* intensity, std::uint8_t* mask, std::int32_t* index,
+                           std::int32_t* count);
+
   ProjectionOptions options_;
   std::vector<float> azimuth_, elevation_, range_, offset_;
   std::vector<std::int32_t> pixel_;  // each point's pixel (row-major), -1 when not in the image
   std::vector<PixelAccumulator> pixels_;
+  bool pixels_clear_ = true;  // every accumulator is zero (pass 4 leaves them so)
 };
 
 }  // namespace iilfm

@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "../../src/projection_passes.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/projection.hpp"
 
@@ -111,6 +112,80 @@ TEST(SphericalProjector, EmptyCloudGivesAOnePixelUnobservedImage) {
   SphericalProjector(opt).project(PointCloud{}, img);
   EXPECT_EQ(cv::countNonZero(img.mask), 0);
   EXPECT_EQ(img.points_projected, 0u);
+}
+
+TEST(PixelsOfPoints, PutsEveryPointInThePixelOfItsAngles) {
+  // The vectorised pass against the double-precision geometry: inside points in the pixel whose
+  // centre is nearest (ties within float rounding aside), outside and unmeasured points at -1.
+  const ImageGeometry g =
+      geometry_for_bounds({-20 * kDeg, 20 * kDeg, -10 * kDeg, 15 * kDeg}, 0.1 * kDeg, 0.2 * kDeg);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> az(-25 * kDeg, 25 * kDeg), el(-14 * kDeg, 19 * kDeg);
+  const std::size_t n = 20000;
+  std::vector<float> azimuth(n), elevation(n), range(n, 5.0f), offset(n);
+  std::vector<std::int32_t> pixel(n);
+  for (std::size_t i = 0; i < n; ++i) azimuth[i] = az(rng), elevation[i] = el(rng);
+  range[7] = 0;  // unmeasured
+  range[8] = std::numeric_limits<float>::quiet_NaN();
+  elevation[9] = std::numeric_limits<float>::quiet_NaN();
+  const std::size_t outside = detail::pixels_of_points(
+      g, azimuth.data(), elevation.data(), range.data(), n, pixel.data(), offset.data());
+  std::size_t expected_outside = 0, checked = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 uv = g.pixel_of_angles(azimuth[i], elevation[i]);
+    const bool in = range[i] > 0 && uv.x() >= -0.5 && uv.y() >= -0.5 && uv.x() < g.width - 0.5 &&
+                    uv.y() < g.height - 0.5;
+    if (!in) {
+      ++expected_outside;
+      EXPECT_EQ(pixel[i], -1) << i;
+      continue;
+    }
+    const double du = uv.x() - std::round(uv.x()), dv = uv.y() - std::round(uv.y());
+    if (std::abs(std::abs(du) - 0.5) < 1e-3 || std::abs(std::abs(dv) - 0.5) < 1e-3) continue;
+    ++checked;
+    EXPECT_EQ(pixel[i], std::lround(uv.y()) * g.width + std::lround(uv.x())) << i;
+    EXPECT_NEAR(offset[i], du * du + dv * dv, 1e-3) << i;
+  }
+  EXPECT_EQ(outside, expected_outside);
+  EXPECT_GT(checked, n / 2);
+  EXPECT_GT(expected_outside, n / 10);
+}
+
+TEST(SphericalProjector, AReusedProjectorGivesTheImagesOfAFreshOne) {
+  // The projector clears its per-pixel sums as it writes the images; a smaller image between two
+  // large ones must leave nothing behind in either.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> az(-0.3, 0.3), el(-0.2, 0.2), r(2, 9);
+  auto cloud_in = [&](double scale, int points) {
+    PointCloud cloud;
+    for (int i = 0; i < points; ++i) {
+      const double a = scale * az(rng), e = scale * el(rng), d = r(rng);
+      cloud.push_back(d * std::cos(e) * std::cos(a), d * std::cos(e) * std::sin(a), d * std::sin(e),
+                      static_cast<float>(d * 10));
+    }
+    return cloud;
+  };
+  const PointCloud large = cloud_in(1.0, 40000), small = cloud_in(0.3, 500);
+  for (CollisionPolicy policy : {CollisionPolicy::kMean, CollisionPolicy::kNearest}) {
+    ProjectionOptions opt;
+    opt.res_h_deg = opt.res_v_deg = 0.2;
+    opt.collision = policy;
+    SphericalProjector reused(opt);
+    ProjectedImage image;
+    for (const PointCloud* cloud : {&large, &small, &large, &small}) {
+      reused.project(*cloud, image);
+      ProjectedImage fresh;
+      SphericalProjector(opt).project(*cloud, fresh);
+      ASSERT_EQ(image.geometry.width, fresh.geometry.width);
+      ASSERT_EQ(image.geometry.height, fresh.geometry.height);
+      EXPECT_EQ(cv::norm(image.count, fresh.count, cv::NORM_INF), 0);
+      EXPECT_EQ(cv::norm(image.index, fresh.index, cv::NORM_INF), 0);
+      EXPECT_EQ(cv::norm(image.mask, fresh.mask, cv::NORM_INF), 0);
+      EXPECT_EQ(cv::norm(image.range, fresh.range, cv::NORM_INF), 0);
+      EXPECT_EQ(cv::norm(image.intensity, fresh.intensity, cv::NORM_INF), 0);
+      EXPECT_EQ(image.points_projected, cloud->size());
+    }
+  }
 }
 
 }  // namespace
