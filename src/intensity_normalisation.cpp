@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "cpu_clones.hpp"
 #include "iilfm/projection.hpp"
 
 namespace iilfm {
@@ -39,7 +40,7 @@ struct WindowMean {
 };
 
 // Window sums to window means, in place, where the window holds an observed pixel.
-void to_means(const cv::Mat& count, cv::Mat& range, cv::Mat& col, cv::Mat& row) {
+IILFM_AVX2_CLONES void to_means(const cv::Mat& count, cv::Mat& range, cv::Mat& col, cv::Mat& row) {
   const int cols = count.cols;
   for (int r = 0; r < count.rows; ++r) {
     const float* __restrict n = count.ptr<float>(r);
@@ -81,9 +82,10 @@ struct InnerRows {
 // estimate_cos_incidence's arithmetic for the columns whose side windows lie in the image: every
 // value loaded before the selects for the missing windows (a conditional load keeps GCC from
 // vectorising), divisions by 0 computed and discarded.
-void cos_incidence_inside(const InnerRows& in, const std::uint8_t* __restrict mask, int a,
-                          int begin, int end, float per_az, float per_el, float max_gain_sq,
-                          float* __restrict out) {
+IILFM_AVX2_CLONES void cos_incidence_inside(const InnerRows& in,
+                                            const std::uint8_t* __restrict mask, int a, int begin,
+                                            int end, float per_az, float per_el, float max_gain_sq,
+                                            float* __restrict out) {
   const float* __restrict n0 = in.count;
   const float* __restrict range0 = in.range;
   const float* __restrict col0 = in.col;

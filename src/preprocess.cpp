@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "cpu_clones.hpp"
 #include "iilfm/square_pixels.hpp"
 
 namespace iilfm {
@@ -17,8 +18,8 @@ namespace {
 // over the rows: 3-row column sums of the observed values and of the observed count, then their
 // 3-column sums. The column sums vectorise; the per-pixel loop selects (no blend: 0 x an infinite
 // mean would be NaN) and GCC leaves it scalar.
-void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours, cv::Mat& filled,
-                cv::Mat& filled_mask) {
+IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours,
+                                  cv::Mat& filled, cv::Mat& filled_mask) {
   const int rows = intensity.rows, cols = intensity.cols;
   filled.create(rows, cols, CV_32F);
   filled_mask.create(rows, cols, CV_8U);
@@ -149,8 +150,8 @@ cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double glo
 
 // 8-bit gray for display and for Otsu: intensity scaled so `scale` maps to 255; pixels still
 // unobserved get `unobserved`.
-void to_gray(const cv::Mat& filled, const cv::Mat& valid, double scale, int unobserved,
-             cv::Mat& gray) {
+IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid, double scale,
+                               int unobserved, cv::Mat& gray) {
   gray.create(filled.size(), CV_8U);
   const float factor = static_cast<float>(255.0 / scale);
   const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
@@ -171,8 +172,8 @@ void to_gray(const cv::Mat& filled, const cv::Mat& valid, double scale, int unob
 
 // The naive global threshold: 255 where brighter than `threshold`, 0 where not, `unobserved`
 // where no value is known.
-void binarize(const cv::Mat& filled, const cv::Mat& valid, double threshold, int unobserved,
-              cv::Mat& detect) {
+IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid, double threshold,
+                                int unobserved, cv::Mat& detect) {
   detect.create(filled.size(), CV_8U);
   const float t = static_cast<float>(threshold);
   const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
@@ -198,7 +199,8 @@ void binarize(const cv::Mat& filled, const cv::Mat& valid, double threshold, int
 // docs/pipeline.md). Taking the class of the surroundings keeps a dark floor dark, where all-white
 // holes made random patterns that weak families (tag16h5, tag25h9) decoded. Counts per block in
 // one pass over the image, then one pass that writes the holes.
-void classify_holes(const cv::Mat& valid, int block, cv::Mat& detect, PreprocessedImage& out) {
+IILFM_AVX2_CLONES void classify_holes(const cv::Mat& valid, int block, cv::Mat& detect,
+                                      PreprocessedImage& out) {
   const int rows = detect.rows, cols = detect.cols;
   const int bw = (cols + block - 1) / block, bh = (rows + block - 1) / block;
   const std::size_t blocks = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "cpu_clones.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/ring_structure.hpp"
 #include "projection_passes.hpp"
@@ -151,9 +152,10 @@ void write_block(const Accumulator* __restrict pixels, std::size_t n, bool neare
 }
 }  // namespace
 
-void SphericalProjector::write_images(PixelAccumulator* pixels, std::size_t total, bool nearest,
-                                      float* range, float* intensity, std::uint8_t* mask,
-                                      std::int32_t* index, std::int32_t* count) {
+IILFM_AVX2_CLONES void SphericalProjector::write_images(PixelAccumulator* pixels, std::size_t total,
+                                                        bool nearest, float* range,
+                                                        float* intensity, std::uint8_t* mask,
+                                                        std::int32_t* index, std::int32_t* count) {
   // Block by block, clearing each block for the next frame while it is still in L1: cheaper than
   // a separate pass over the whole array (9 MB for a Mid-40 image).
   constexpr std::size_t kBlock = 1024;

@@ -2,19 +2,8 @@
 
 #include <algorithm>
 
-// Cloned for AVX2 (picked at load time where the CPU has it): twice the lanes of the SSE2
-// baseline. AVX2 alone, without FMA, so no multiply-add is fused and both clones round alike.
-// Not under ThreadSanitizer: the clones' load-time resolver runs before its runtime and crashes.
-#if defined(__SANITIZE_THREAD__)
-#define IILFM_AVX2_CLONES
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define IILFM_AVX2_CLONES
-#endif
-#endif
-#ifndef IILFM_AVX2_CLONES
-#define IILFM_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
-#endif
+// Both passes are cloned for AVX2 (twice the lanes of the SSE2 baseline).
+#include "cpu_clones.hpp"
 
 namespace iilfm::detail {
 
