@@ -118,6 +118,43 @@ IILFM_AVX2_CLONES void cos_incidence_inside(const InnerRows& in,
   }
 }
 
+// Sum of `in` (CV_32F) over the (2a+1) x (2b+1) window about every pixel, zero outside the image.
+// Small windows (the Ouster presets': 7 x 7) are summed directly, across then down, in loops that
+// vectorise, about five times faster than cv::boxFilter on a 1024 x 128 image; larger ones go to
+// cv::boxFilter, whose running sums cost the same at any size.
+IILFM_AVX2_CLONES void window_sums(const cv::Mat& in, int a, int b, NormalisationBuffers& work,
+                                   cv::Mat& sum) {
+  constexpr int kDirectMax = 8;
+  if (a > kDirectMax || b > kDirectMax) {
+    cv::boxFilter(in, sum, CV_32F, cv::Size(2 * a + 1, 2 * b + 1), cv::Point(-1, -1), false,
+                  cv::BORDER_CONSTANT);
+    return;
+  }
+  const int rows = in.rows, cols = in.cols;
+  work.across.create(rows, cols, CV_32F);
+  sum.create(rows, cols, CV_32F);
+  work.padded.assign(static_cast<std::size_t>(cols + 2 * a), 0.0f);
+  float* __restrict padded = work.padded.data();
+  for (int r = 0; r < rows; ++r) {
+    const float* __restrict row = in.ptr<float>(r);
+    std::copy(row, row + cols, padded + a);
+    float* __restrict across = work.across.ptr<float>(r);
+    std::copy(padded, padded + cols, across);
+    for (int k = 1; k <= 2 * a; ++k)
+      for (int c = 0; c < cols; ++c) across[c] += padded[c + k];
+  }
+  for (int r = 0; r < rows; ++r) {
+    float* __restrict out = sum.ptr<float>(r);
+    const int first = std::max(0, r - b), last = std::min(rows - 1, r + b);
+    const float* __restrict top = work.across.ptr<float>(first);
+    std::copy(top, top + cols, out);
+    for (int rr = first + 1; rr <= last; ++rr) {
+      const float* __restrict add = work.across.ptr<float>(rr);
+      for (int c = 0; c < cols; ++c) out[c] += add[c];
+    }
+  }
+}
+
 }  // namespace
 
 // The surface r(azimuth, elevation) seen in the range image has, at a pixel, the normal whose
@@ -152,10 +189,7 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
   }
   // The range image is 0 where unobserved, so its window sum is the observed pixels' sum. Column
   // and row sums are sums of integers below 2^24: exact in float.
-  const cv::Size window(2 * a + 1, 2 * b + 1);
-  auto box = [&](const cv::Mat& in, cv::Mat& sum) {
-    cv::boxFilter(in, sum, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  };
+  auto box = [&](const cv::Mat& in, cv::Mat& sum) { window_sums(in, a, b, work, sum); };
   box(image.range, work.range_sum);
   box(work.weight, work.weight_sum);
   box(work.weighted_col, work.col_sum);

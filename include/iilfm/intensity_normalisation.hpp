@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 namespace iilfm {
 
@@ -40,6 +41,8 @@ struct NormalisationOptions {
 struct NormalisationBuffers {
   cv::Mat weight, range_sum, weight_sum, cos_incidence;
   cv::Mat weighted_col, weighted_row, col_sum, row_sum;  // window centroids
+  cv::Mat across;                                        // window sums along rows
+  std::vector<float> padded;                             // one row with zero borders
 };
 
 // Writes the normalised intensity (CV_32F, 0 where unobserved) of `image` into `out`. With
