@@ -138,6 +138,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.sigma = args.quad_sigma;
   options.detector.apriltag.refine_edges = !args.no_refine_edges;
   options.detector.apriltag.threads = args.threads;
+  options.projection.threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;
@@ -371,7 +372,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--quad-sigma", args->quad_sigma, "AprilTag segmentation blur sigma (pixels)")
       ->check(CLI::Range(0.0, 10.0));
   cmd->add_flag("--no-refine-edges", args->no_refine_edges, "AprilTag: do not refine quad edges");
-  cmd->add_option("--threads", args->threads, "AprilTag threads")->check(CLI::Range(1, 64));
+  cmd->add_option("--threads", args->threads,
+                  "threads for AprilTag and for projecting large clouds")
+      ->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--aruco-refine", args->aruco_refine,
                   "ArUco corner refinement: none|subpixel|contour (default)|apriltag");

@@ -92,6 +92,9 @@ struct ProjectionOptions {
   std::optional<AngularBounds> field_of_view;
   CollisionPolicy collision = CollisionPolicy::kMean;
   std::size_t max_pixels = 50'000'000;  // refuse absurd images (e.g. a tiny resolution typo)
+  // Threads for the per-point and per-pixel passes of large clouds and images (at least 32k
+  // points or 64k pixels a thread; at most 64). The images are the same for any count.
+  int threads = 1;
 };
 
 struct ProjectedImage {

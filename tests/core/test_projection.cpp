@@ -188,5 +188,49 @@ TEST(SphericalProjector, AReusedProjectorGivesTheImagesOfAFreshOne) {
   }
 }
 
+TEST(SphericalProjector, ThreadsGiveTheImagesOfOneThread) {
+  // Large enough for every pass to split (200k points, 600 x 400 pixels), with many points per
+  // pixel so that the order in which a pixel's points are added matters for its sums, for
+  // uniform and ring rows and both collision policies.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> az(-0.5, 0.5), r(2, 30);
+  std::uniform_int_distribution<int> ring_of(0, 15);
+  PointCloud cloud;
+  cloud.ring.clear();
+  for (int i = 0; i < 200000; ++i) {
+    const int ring = ring_of(rng);
+    const double a = az(rng), e = (ring - 7.5) * 2 * kDeg, d = r(rng);
+    cloud.push_back(d * std::cos(e) * std::cos(a), d * std::cos(e) * std::sin(a), d * std::sin(e),
+                    static_cast<float>(d * 3));
+    cloud.ring.push_back(static_cast<std::uint16_t>(ring));
+  }
+  for (RowLayout rows : {RowLayout::kUniform, RowLayout::kRings}) {
+    for (CollisionPolicy policy : {CollisionPolicy::kMean, CollisionPolicy::kNearest}) {
+      ProjectionOptions opt;
+      opt.res_h_deg = 0.1;
+      opt.res_v_deg = 0.1;
+      opt.rows = rows;
+      opt.collision = policy;
+      ProjectedImage one;
+      SphericalProjector(opt).project(cloud, one);
+      for (int threads : {2, 3, 64}) {
+        opt.threads = threads;
+        ProjectedImage many;
+        SphericalProjector(opt).project(cloud, many);
+        ASSERT_EQ(many.geometry.width, one.geometry.width);
+        ASSERT_EQ(many.geometry.height, one.geometry.height);
+        EXPECT_EQ(cv::norm(many.count, one.count, cv::NORM_INF), 0) << threads;
+        EXPECT_EQ(cv::norm(many.index, one.index, cv::NORM_INF), 0) << threads;
+        EXPECT_EQ(cv::norm(many.mask, one.mask, cv::NORM_INF), 0) << threads;
+        EXPECT_EQ(cv::norm(many.range, one.range, cv::NORM_INF), 0) << threads;
+        EXPECT_EQ(cv::norm(many.intensity, one.intensity, cv::NORM_INF), 0) << threads;
+        EXPECT_EQ(many.points_projected, one.points_projected);
+      }
+      EXPECT_EQ(one.points_projected, cloud.size());
+      EXPECT_GT(cv::countNonZero(one.count > 3), 1000);  // pixels whose sums depend on order
+    }
+  }
+}
+
 }  // namespace
 }  // namespace iilfm
