@@ -114,7 +114,7 @@ IILFM_AVX2_CLONES void cos_incidence_inside(const InnerRows& in,
     const float gain_sq = 1.0f + g_az * g_az + g_el * g_el;
     const float cosine = 1.0f / std::sqrt(gain_sq);
     const bool known = (mask[c] != 0) & (n0[c] > 0.5f) & (centre_range > 0);
-    out[c] = known & (gain_sq <= max_gain_sq) ? cosine : 1.0f;
+    out[c] = (known & (gain_sq <= max_gain_sq)) ? cosine : 1.0f;
   }
 }
 

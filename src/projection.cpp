@@ -7,13 +7,12 @@
 #include <functional>
 #include <limits>
 #include <string>
-#include <thread>
-#include <utility>
 #include <vector>
 
 #include "cpu_clones.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/ring_structure.hpp"
+#include "parallel_parts.hpp"
 #include "projection_passes.hpp"
 
 namespace iilfm {
@@ -133,41 +132,12 @@ AngularBounds extent_of(const float* azimuth, const float* elevation, const floa
   return AngularBounds{az_min, az_max, el_min, el_max};
 }
 
-// Points and pixels below these counts are not worth a thread's start (tens of microseconds).
+// Threads take at least this many points or pixels each (detail::parts_for).
 constexpr std::size_t kMinPointsPerPart = 32768, kMinPixelsPerPart = 65536;
-constexpr int kMaxParts = 64;
-
-// How many parts `items` splits into for `threads` threads, each at least `min_per_part` long.
-int parts_for(int threads, std::size_t items, std::size_t min_per_part) {
-  const std::size_t most = std::max<std::size_t>(1, items / min_per_part);
-  const std::size_t wanted = static_cast<std::size_t>(std::clamp(threads, 1, kMaxParts));
-  return static_cast<int>(std::min(wanted, most));
-}
-
-// Calls part(k, parts) for k = 0 .. parts - 1: the first on this thread, the others on new ones.
-// Every part writes its own items only, so the result is the same for any number of parts.
-template <typename Part>
-void in_parts(int parts, const Part& part) {
-  if (parts <= 1) {
-    part(0, 1);
-    return;
-  }
-  std::vector<std::thread> helpers;
-  helpers.reserve(static_cast<std::size_t>(parts - 1));
-  for (int k = 1; k < parts; ++k) helpers.emplace_back([&part, k, parts] { part(k, parts); });
-  part(0, parts);
-  for (std::thread& t : helpers) t.join();
-}
-
-// [begin, end) of part k of `items` split into `parts`.
-std::pair<std::size_t, std::size_t> part_range(std::size_t items, int k, int parts) {
-  const auto share = [&](int i) {
-    return items / static_cast<std::size_t>(parts) * static_cast<std::size_t>(i) +
-           items % static_cast<std::size_t>(parts) * static_cast<std::size_t>(i) /
-               static_cast<std::size_t>(parts);
-  };
-  return {share(k), share(k + 1)};
-}
+using detail::in_parts;
+using detail::kMaxParts;
+using detail::part_range;
+using detail::parts_for;
 
 // Points [begin, end) of `view`.
 PointView slice(const PointView& view, std::size_t begin, std::size_t end) {

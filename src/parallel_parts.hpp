@@ -1,0 +1,55 @@
+// Splitting a pass over items between threads so that its result does not depend on how many:
+// each part owns a contiguous range of the items and writes only its own results.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <system_error>
+#include <thread>
+#include <utility>
+#include <vector>
+
+namespace iilfm::detail {
+
+constexpr int kMaxParts = 64;
+
+// How many parts `items` splits into for `threads` threads, each at least `min_per_part` long
+// (below that, a thread's start costs more than it saves).
+inline int parts_for(int threads, std::size_t items, std::size_t min_per_part) {
+  const std::size_t most = std::max<std::size_t>(1, items / std::max<std::size_t>(1, min_per_part));
+  const auto wanted = static_cast<std::size_t>(std::clamp(threads, 1, kMaxParts));
+  return static_cast<int>(std::min(wanted, most));
+}
+
+// [begin, end) of part k of `items` split into `parts` (sizes differ by at most one).
+inline std::pair<std::size_t, std::size_t> part_range(std::size_t items, int k, int parts) {
+  const auto n = static_cast<std::size_t>(parts);
+  const auto share = [&](int i) {
+    const auto j = static_cast<std::size_t>(i);
+    return items / n * j + items % n * j / n;
+  };
+  return {share(k), share(k + 1)};
+}
+
+// Calls part(k, parts) for k = 0 .. parts - 1: the first on this thread, the others on new ones
+// (on this thread too when the system refuses a new one). `part` must not throw.
+template <typename Part>
+void in_parts(int parts, const Part& part) {
+  if (parts <= 1) {
+    part(0, 1);
+    return;
+  }
+  std::vector<std::thread> helpers;
+  helpers.reserve(static_cast<std::size_t>(parts - 1));
+  int started = 1;
+  try {
+    for (; started < parts; ++started)
+      helpers.emplace_back([&part, started, parts] { part(started, parts); });
+  } catch (const std::system_error&) {
+  }
+  for (int k = started; k < parts; ++k) part(k, parts);
+  part(0, parts);
+  for (std::thread& t : helpers) t.join();
+}
+
+}  // namespace iilfm::detail
