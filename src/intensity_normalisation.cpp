@@ -79,9 +79,24 @@ struct InnerRows {
   const float *count_down, *range_down, *row_down;
 };
 
+// cos(incidence) from the range differences across (over d_col columns) and down (over d_row
+// rows) of the windows about a pixel. A slope steeper than the clamp allows is a depth edge
+// inside the window (a board in front of a far wall), not one surface: no correction there, or
+// the edge would glow. Branch-free, so the loop calling it vectorises; a slope over a side too
+// short is computed and discarded.
+inline float cos_incidence_of(float across, float d_col, float down, float d_row,
+                              float centre_range, float per_az, float per_el, float max_gain_sq) {
+  const float slope_az = across / d_col * per_az / centre_range;
+  const float slope_el = down / d_row * per_el / centre_range;
+  const float g_az = d_col > 0.5f ? slope_az : 0.0f, g_el = d_row > 0.5f ? slope_el : 0.0f;
+  const float gain_sq = 1.0f + g_az * g_az + g_el * g_el;
+  const float cosine = 1.0f / std::sqrt(gain_sq);
+  return gain_sq <= max_gain_sq ? cosine : 1.0f;
+}
+
 // estimate_cos_incidence's arithmetic for the columns whose side windows lie in the image: every
 // value loaded before the selects for the missing windows (a conditional load keeps GCC from
-// vectorising), divisions by 0 computed and discarded.
+// vectorising).
 IILFM_AVX2_CLONES void cos_incidence_inside(const InnerRows& in,
                                             const std::uint8_t* __restrict mask, int a, int begin,
                                             int end, float per_az, float per_el, float max_gain_sq,
@@ -107,14 +122,11 @@ IILFM_AVX2_CLONES void cos_incidence_inside(const InnerRows& in,
     const float right_col = right_ok ? rc : centre_col;
     const float above_range = above_ok ? ar : centre_range, above_row = above_ok ? aw : centre_row;
     const float below_range = below_ok ? br : centre_range, below_row = below_ok ? bw : centre_row;
-    const float d_col = right_col - left_col, d_row = below_row - above_row;
-    const float slope_az = (right_range - left_range) / d_col * per_az / centre_range;
-    const float slope_el = (above_range - below_range) / d_row * per_el / centre_range;
-    const float g_az = d_col > 0.5f ? slope_az : 0.0f, g_el = d_row > 0.5f ? slope_el : 0.0f;
-    const float gain_sq = 1.0f + g_az * g_az + g_el * g_el;
-    const float cosine = 1.0f / std::sqrt(gain_sq);
+    const float cosine =
+        cos_incidence_of(right_range - left_range, right_col - left_col, above_range - below_range,
+                         below_row - above_row, centre_range, per_az, per_el, max_gain_sq);
     const bool known = (mask[c] != 0) & (n0[c] > 0.5f) & (centre_range > 0);
-    out[c] = (known & (gain_sq <= max_gain_sq)) ? cosine : 1.0f;
+    out[c] = known ? cosine : 1.0f;
   }
 }
 
@@ -209,12 +221,6 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
     const float per_el = static_cast<float>(1.0 / per_row);
     const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
     float* out = cos_incidence.ptr<float>(r);
-    // A slope steeper than the clamp allows is a depth edge inside the window (a board in front
-    // of a far wall), not one surface: no correction there, or the edge would glow.
-    const auto cos_of = [max_gain_sq](float g_az, float g_el) {
-      const float gain_sq = 1.0f + g_az * g_az + g_el * g_el;
-      return gain_sq <= max_gain_sq ? 1.0f / std::sqrt(gain_sq) : 1.0f;
-    };
     // Near the left and right borders a side window is clamped to the image: per pixel.
     const auto at_border = [&](int c) {
       if (!m[c]) return;
@@ -227,12 +233,9 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
       if (!right.valid) right = centre;
       if (!above.valid) above = centre;
       if (!below.valid) below = centre;
-      const float d_col = right.col - left.col, d_row = below.row - above.row;
-      const float g_az =
-          d_col > 0.5f ? (right.range - left.range) / d_col * per_az / centre.range : 0.0f;
-      const float g_el =
-          d_row > 0.5f ? (above.range - below.range) / d_row * per_el / centre.range : 0.0f;
-      out[c] = cos_of(g_az, g_el);
+      out[c] = cos_incidence_of(right.range - left.range, right.col - left.col,
+                                above.range - below.range, below.row - above.row, centre.range,
+                                per_az, per_el, max_gain_sq);
     };
     const int inner_begin = std::min(a, cols), inner_end = std::max(inner_begin, cols - a);
     for (int c = 0; c < inner_begin; ++c) at_border(c);
