@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <string>
 
 #include "../../src/projection_passes.hpp"
 #include "iilfm/error.hpp"
@@ -114,6 +115,18 @@ TEST(SphericalProjector, EmptyCloudGivesAOnePixelUnobservedImage) {
   EXPECT_EQ(img.points_projected, 0u);
 }
 
+// Every image of `a` equals the one of `b`, pixel for pixel.
+void expect_same_images(const ProjectedImage& a, const ProjectedImage& b, const std::string& what) {
+  ASSERT_EQ(a.geometry.width, b.geometry.width) << what;
+  ASSERT_EQ(a.geometry.height, b.geometry.height) << what;
+  EXPECT_EQ(cv::norm(a.count, b.count, cv::NORM_INF), 0) << what;
+  EXPECT_EQ(cv::norm(a.index, b.index, cv::NORM_INF), 0) << what;
+  EXPECT_EQ(cv::norm(a.mask, b.mask, cv::NORM_INF), 0) << what;
+  EXPECT_EQ(cv::norm(a.range, b.range, cv::NORM_INF), 0) << what;
+  EXPECT_EQ(cv::norm(a.intensity, b.intensity, cv::NORM_INF), 0) << what;
+  EXPECT_EQ(a.points_projected, b.points_projected) << what;
+}
+
 TEST(PixelsOfPoints, PutsEveryPointInThePixelOfItsAngles) {
   // The vectorised pass against the double-precision geometry: inside points in the pixel whose
   // centre is nearest (ties within float rounding aside), outside and unmeasured points at -1.
@@ -176,13 +189,7 @@ TEST(SphericalProjector, AReusedProjectorGivesTheImagesOfAFreshOne) {
       reused.project(*cloud, image);
       ProjectedImage fresh;
       SphericalProjector(opt).project(*cloud, fresh);
-      ASSERT_EQ(image.geometry.width, fresh.geometry.width);
-      ASSERT_EQ(image.geometry.height, fresh.geometry.height);
-      EXPECT_EQ(cv::norm(image.count, fresh.count, cv::NORM_INF), 0);
-      EXPECT_EQ(cv::norm(image.index, fresh.index, cv::NORM_INF), 0);
-      EXPECT_EQ(cv::norm(image.mask, fresh.mask, cv::NORM_INF), 0);
-      EXPECT_EQ(cv::norm(image.range, fresh.range, cv::NORM_INF), 0);
-      EXPECT_EQ(cv::norm(image.intensity, fresh.intensity, cv::NORM_INF), 0);
+      expect_same_images(image, fresh, "reused");
       EXPECT_EQ(image.points_projected, cloud->size());
     }
   }
@@ -217,14 +224,7 @@ TEST(SphericalProjector, ThreadsGiveTheImagesOfOneThread) {
         opt.threads = threads;
         ProjectedImage many;
         SphericalProjector(opt).project(cloud, many);
-        ASSERT_EQ(many.geometry.width, one.geometry.width);
-        ASSERT_EQ(many.geometry.height, one.geometry.height);
-        EXPECT_EQ(cv::norm(many.count, one.count, cv::NORM_INF), 0) << threads;
-        EXPECT_EQ(cv::norm(many.index, one.index, cv::NORM_INF), 0) << threads;
-        EXPECT_EQ(cv::norm(many.mask, one.mask, cv::NORM_INF), 0) << threads;
-        EXPECT_EQ(cv::norm(many.range, one.range, cv::NORM_INF), 0) << threads;
-        EXPECT_EQ(cv::norm(many.intensity, one.intensity, cv::NORM_INF), 0) << threads;
-        EXPECT_EQ(many.points_projected, one.points_projected);
+        expect_same_images(many, one, std::to_string(threads) + " threads");
       }
       EXPECT_EQ(one.points_projected, cloud.size());
       EXPECT_GT(cv::countNonZero(one.count > 3), 1000);  // pixels whose sums depend on order
