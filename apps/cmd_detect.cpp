@@ -47,6 +47,7 @@ struct DetectArgs {
   std::string rows;
   bool no_square_pixels = false;
   bool no_edge_refine = false;
+  bool no_search_regions = false;
   bool no_ring_decode = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   double blur = 0;
@@ -137,6 +138,8 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.decimate = args.decimate;
   options.detector.apriltag.sigma = args.quad_sigma;
   options.detector.apriltag.refine_edges = !args.no_refine_edges;
+  options.detector.apriltag.search_regions = !args.no_search_regions;
+  options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.threads = args.threads;
   options.projection.threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
@@ -372,6 +375,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--quad-sigma", args->quad_sigma, "AprilTag segmentation blur sigma (pixels)")
       ->check(CLI::Range(0.0, 10.0));
   cmd->add_flag("--no-refine-edges", args->no_refine_edges, "AprilTag: do not refine quad edges");
+  cmd->add_flag("--no-search-regions", args->no_search_regions,
+                "AprilTag and ArUco: search every pixel, not only the boxes around quad-shaped "
+                "black-white boundaries of the binary image (same markers, slower)");
   cmd->add_option("--threads", args->threads,
                   "threads for AprilTag and for projecting large clouds")
       ->check(CLI::Range(1, 64));

@@ -24,6 +24,7 @@ struct EvalArgs {
   std::uint64_t first_seed = 1;
   bool markdown = false, footprint = false, quiet = false;
   bool no_edge_refine = false, weight_corners = false, no_ring_decode = false;
+  bool no_search_regions = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   double dark_dropout = 0, invalid_fraction = 0;
   bool no_jitter = false;
@@ -77,6 +78,7 @@ int run_eval(const EvalArgs& a) {
     range.seeds = a.seeds_given ? a.seeds : 10;
     range.ring_decode = !a.no_ring_decode;
     range.ring_candidates = a.ring_candidates;
+    range.search_regions = !a.no_search_regions;
     range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
     return run_range_study(range);
   }
@@ -94,6 +96,7 @@ int run_eval(const EvalArgs& a) {
   options.tweaks.edge_refine = !a.no_edge_refine;
   options.tweaks.ring_decode = !a.no_ring_decode;
   options.tweaks.ring_candidates = a.ring_candidates;
+  options.tweaks.search_regions = !a.no_search_regions;
   options.tweaks.weight_corners = a.weight_corners;
   options.tweaks.pose_refine = pose_refine_named(a.pose_refine);
   options.dark_dropout = a.dark_dropout;
@@ -171,6 +174,8 @@ Runner register_eval_command(CLI::App& app) {
   sub->add_flag("--ring-candidates,!--no-ring-candidates", a.ring_candidates,
                 "Also decode dark squares no detector decoded from the rings (default; "
                 "PipelineOptions::ring_candidates)");
+  sub->add_flag("--no-search-regions", a.no_search_regions,
+                "AprilTag and ArUco search every pixel, not only around quad-shaped boundaries");
   sub->add_flag("--weight-corners", a.weight_corners,
                 "Weigh corners by their variance in the LiDAR pose fit");
   sub->add_option("--pose-refine", a.pose_refine,

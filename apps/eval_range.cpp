@@ -21,6 +21,7 @@ int run_range_study(const RangeStudyArgs& a) {
       query.footprint = a.footprint;
       query.ring_decode = a.ring_decode;
       query.ring_candidates = a.ring_candidates;
+      query.search_regions = a.search_regions;
       const std::vector<eval::RangeResult> results =
           eval::detection_range(query, {eval::RangeSettings::kPaper, eval::RangeSettings::kIilfm});
       for (const eval::RangeResult& r : results) {

@@ -14,6 +14,7 @@ struct RangeStudyArgs {
   bool footprint = true;
   bool ring_decode = true;
   bool ring_candidates = true;
+  bool search_regions = true;
 };
 
 // Prints the Markdown table on stdout and per-distance counts on stderr.

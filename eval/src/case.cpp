@@ -133,6 +133,8 @@ CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks
   options.pose.refine = tweaks.pose_refine;
   options.ring_decode = tweaks.ring_decode;
   options.ring_candidates = tweaks.ring_candidates;
+  options.detector.apriltag.search_regions = tweaks.search_regions;
+  options.detector.aruco.search_regions = tweaks.search_regions;
   Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }

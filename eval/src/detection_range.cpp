@@ -57,6 +57,8 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
           options.ring_decode = query.ring_decode;
           options.ring_candidates = query.ring_candidates;
         }
+        options.detector.apriltag.search_regions = query.search_regions;
+        options.detector.aruco.search_regions = query.search_regions;
         Pipeline pipeline(options);
         const CaseScore score = score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
         found[k] += score.detected > 0 ? 1 : 0;

@@ -47,6 +47,10 @@ struct AprilTagOptions {
   bool refine_edges = true;
   double decode_sharpening = 0.25;
   int max_hamming = -1;  // bits to correct; -1 = per-family default (see docs/detectors.md)
+  // On a binary image, run libapriltag only on the boxes around quad-shaped black-white
+  // boundaries (src/detectors/search_regions.hpp; docs/detectors.md) instead of on every pixel.
+  // Needs decimate 1 and sigma 0; the whole image is searched otherwise.
+  bool search_regions = true;
 };
 
 // Corner refinement of the ArUco back-end (OpenCV's CORNER_REFINE_*).
@@ -75,6 +79,9 @@ struct ArucoOptions {
   double min_cell_px = 2.0;
   double max_side_ratio = 3.0;
   double min_quiet_zone = 0.75;
+  // As AprilTagOptions::search_regions: on a binary image, detect only around quad-shaped
+  // black-white boundaries.
+  bool search_regions = true;
 };
 
 // Options of the concentric-ring back-end (docs/detectors.md, "Concentric rings").

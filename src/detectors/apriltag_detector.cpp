@@ -6,10 +6,26 @@
 
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/error.hpp"
+#include "search_regions.hpp"
 
 namespace iilfm::detail {
 
 namespace {
+
+// How far outside its quad libapriltag reads to decode `family`, as a share of the quad's side:
+// the white row half a cell beyond the border, or the centres of data bits kept outside it
+// (tagStandard, tagCircle); doubled, because perspective stretches the far side of a quad.
+double decode_reach(const apriltag_family_t& family) {
+  const int border = std::max(family.width_at_border, 1);
+  double cells = 0.5;
+  for (std::uint32_t i = 0; i < family.nbits; ++i) {
+    // The bit positions are signed values stored as unsigned (negative outside the border).
+    const double x = static_cast<std::int32_t>(family.bit_x[i]) + 0.5;
+    const double y = static_cast<std::int32_t>(family.bit_y[i]) + 0.5;
+    cells = std::max({cells, -x, -y, x - border, y - border});
+  }
+  return 2.0 * cells / border;
+}
 
 class AprilTagDetector final : public MarkerDetector {
  public:
@@ -27,6 +43,11 @@ class AprilTagDetector final : public MarkerDetector {
                          : default_max_hamming(static_cast<int>(family_->h), family_->ncodes,
                                                static_cast<int>(family_->nbits));
     apriltag_detector_add_family_bits(detector_, family_, bits);
+    // Regions keep libapriltag's own thresholds only without decimation or blur, which change
+    // the tiles' footprint (docs/detectors.md).
+    use_regions_ = options.search_regions && options.decimate <= 1 && options.sigma == 0;
+    rules_.reach = decode_reach(*family_);
+    rules_.min_side_px = std::max(3, family_->width_at_border - 1);
   }
   ~AprilTagDetector() override {
     apriltag_detector_destroy(detector_);
@@ -39,12 +60,20 @@ class AprilTagDetector final : public MarkerDetector {
 
   void detect(const cv::Mat& gray, std::vector<Detection>& out) override {
     CV_Assert(gray.type() == CV_8UC1);
+    detect_in_search_regions(
+        gray, use_regions_, rules_, crop_,
+        [&](const cv::Mat& part, cv::Point origin) { detect_in(part, origin, out); });
+  }
+
+ private:
+  // Runs libapriltag on `image`, whose pixel (0, 0) is `origin` of the detector's input.
+  void detect_in(const cv::Mat& image, cv::Point origin, std::vector<Detection>& out) {
     // libapriltag 3.3 reads outside images under 6 pixels wide or high (a one-row image from a
     // degenerate cloud crashed the fuzzer); upstream now returns nothing for them, and no tag fits.
-    if (gray.cols < 6 || gray.rows < 6) return;
-    image_u8_t image{gray.cols, gray.rows, static_cast<std::int32_t>(gray.step[0]),
-                     const_cast<std::uint8_t*>(gray.ptr<std::uint8_t>())};
-    zarray_t* found = apriltag_detector_detect(detector_, &image);
+    if (image.cols < 6 || image.rows < 6) return;
+    image_u8_t view{image.cols, image.rows, static_cast<std::int32_t>(image.step[0]),
+                    const_cast<std::uint8_t*>(image.ptr<std::uint8_t>())};
+    zarray_t* found = apriltag_detector_detect(detector_, &view);
     for (int i = 0; i < zarray_size(found); ++i) {
       apriltag_detection_t* d = nullptr;
       zarray_get(found, i, &d);
@@ -55,19 +84,22 @@ class AprilTagDetector final : public MarkerDetector {
       det.decision_margin = d->decision_margin;
       // libapriltag gives p[0..3] = bottom-left, bottom-right, top-right, top-left of the printed
       // tag, with pixel centres at i + 0.5; reorder to TL, TR, BR, BL and shift to centres at i.
-      for (int k = 3; k >= 0; --k) det.corners_px.emplace_back(d->p[k][0] - 0.5, d->p[k][1] - 0.5);
+      for (int k = 3; k >= 0; --k)
+        det.corners_px.emplace_back(d->p[k][0] - 0.5 + origin.x, d->p[k][1] - 0.5 + origin.y);
       out.push_back(std::move(det));
     }
     apriltag_detections_destroy(found);
   }
 
- private:
   // A copy, not a reference into the families table: a detector outliving that function-static
   // table (a Pipeline with static storage made before the table) still destroys its family.
   const AprilTagFamilyEntry entry_;
   std::string name_;
   apriltag_family_t* family_ = nullptr;
   apriltag_detector_t* detector_ = nullptr;
+  bool use_regions_ = false;
+  SearchRegionRules rules_;
+  cv::Mat crop_;  // a search region's pixels, reused from call to call
 };
 
 }  // namespace

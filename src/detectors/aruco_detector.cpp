@@ -8,6 +8,7 @@
 
 #include "aruco_dictionaries.hpp"
 #include "iilfm/error.hpp"
+#include "search_regions.hpp"
 
 namespace iilfm::detail {
 
@@ -34,22 +35,44 @@ class ArucoDetector final : public MarkerDetector {
         dictionary_(cv::aruco::getPredefinedDictionary(entry.id)),
         parameters_(aruco_parameters(options)),
         options_(options),
-        border_width_(dictionary_->markerSize + 2) {}
+        border_width_(dictionary_->markerSize + 2) {
+    // Around a boundary: half the largest adaptive-threshold window and OpenCV's 3-pixel border
+    // rule; a cell beyond the border, doubled for perspective (docs/detectors.md).
+    rules_.margin_px = options.window_max / 2 + 4;
+    rules_.reach = 2.0 / border_width_;
+    rules_.min_side_px = border_width_ - 1;
+  }
 
   const std::string& family() const override { return name_; }
 
   void detect(const cv::Mat& gray, std::vector<Detection>& out) override {
     CV_Assert(gray.type() == CV_8UC1);
+    detect_in_search_regions(
+        gray, options_.search_regions, rules_, crop_,
+        [&](const cv::Mat& part, cv::Point origin) { detect_in(gray, part, origin, out); });
+  }
+
+ private:
+  // Detects in `part` of `gray`, whose pixel (0, 0) is `origin` of `gray`.
+  void detect_in(const cv::Mat& gray, const cv::Mat& part, cv::Point origin,
+                 std::vector<Detection>& out) {
+    // OpenCV's perimeter limits are rates of the image's larger side: scaled so that a part keeps
+    // the whole image's limits in pixels.
+    const double scale =
+        static_cast<double>(std::max(gray.cols, gray.rows)) / std::max({part.cols, part.rows, 1});
+    parameters_->minMarkerPerimeterRate = options_.min_perimeter_rate * scale;
+    parameters_->maxMarkerPerimeterRate = options_.max_perimeter_rate * scale;
     corners_.clear();
     ids_.clear();
-    cv::aruco::detectMarkers(gray, dictionary_, corners_, ids_, parameters_);
+    cv::aruco::detectMarkers(part, dictionary_, corners_, ids_, parameters_);
     for (std::size_t i = 0; i < ids_.size(); ++i) {
       Detection det;
       det.family = name_;
       det.id = ids_[i];
       // OpenCV gives the corners clockwise from the top-left of the marker as drawMarker draws
       // it: already iilfm's order (tested).
-      for (const cv::Point2f& c : corners_[i]) det.corners_px.emplace_back(c.x, c.y);
+      for (const cv::Point2f& c : corners_[i])
+        det.corners_px.emplace_back(c.x + origin.x, c.y + origin.y);
       to_edge_convention(options_.refine, det.corners_px);
       if (plausible_marker_quad(det.corners_px, border_width_, options_) &&
           quiet_zone_fraction(gray, det.corners_px, border_width_) >= options_.min_quiet_zone)
@@ -57,7 +80,6 @@ class ArucoDetector final : public MarkerDetector {
     }
   }
 
- private:
   std::string name_;
   cv::Ptr<cv::aruco::Dictionary> dictionary_;
   cv::Ptr<cv::aruco::DetectorParameters> parameters_;
@@ -65,6 +87,8 @@ class ArucoDetector final : public MarkerDetector {
   int border_width_;
   std::vector<std::vector<cv::Point2f>> corners_;
   std::vector<int> ids_;
+  SearchRegionRules rules_;
+  cv::Mat crop_;  // a search region's pixels, reused from call to call
 };
 
 const ArucoDictionaryEntry& dictionary_or_throw(const std::string& dictionary) {

@@ -79,6 +79,7 @@ struct PipelineTweaks {
   PoseRefine pose_refine = LidarPoseOptions{}.refine;
   bool ring_decode = PipelineOptions{}.ring_decode;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
+  bool search_regions = AprilTagOptions{}.search_regions;
 };
 
 // Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.

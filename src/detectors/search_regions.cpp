@@ -1,0 +1,116 @@
+#include "search_regions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/imgproc.hpp>
+
+namespace iilfm::detail {
+
+namespace {
+
+// libapriltag thresholds in 4 x 4 tiles, each against the extremes of its 3 x 3 tile
+// neighbourhood. A box starting on a tile and reaching two tiles past a boundary (the default
+// margin) sees, around that boundary, the tiles and thresholds of the whole image.
+constexpr int kTile = 4;
+// Beyond this many candidate boundaries (a noisy image) merging boxes costs more than it saves.
+constexpr std::size_t kMostCandidates = 512;
+
+int floor_to_tile(int v) { return v / kTile * kTile; }
+
+// The box around a boundary widened by `margin`, clipped to the image and aligned to tiles (its
+// far sides at a tile's end or at the image's edge, so partial tiles are the image's own).
+cv::Rect widened(const cv::Rect& box, int margin, const cv::Size& size) {
+  const int x0 = floor_to_tile(std::max(0, box.x - margin));
+  const int y0 = floor_to_tile(std::max(0, box.y - margin));
+  const int x1 = std::min(size.width, floor_to_tile(box.br().x + margin + kTile - 1));
+  const int y1 = std::min(size.height, floor_to_tile(box.br().y + margin + kTile - 1));
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+// Could this boundary be a marker's border? Its box spans the smallest quad, is not a sliver, does
+// not touch the image edge, and the boundary simplifies to a few corners (a smooth skyline or a
+// staircase of ring steps does not).
+bool could_be_quad(const std::vector<cv::Point>& contour, const cv::Rect& box, const cv::Size& size,
+                   const SearchRegionRules& rules, std::vector<cv::Point>& polygon) {
+  if (box.x == 0 || box.y == 0 || box.br().x == size.width || box.br().y == size.height)
+    return false;
+  const int longer = std::max(box.width, box.height), shorter = std::min(box.width, box.height);
+  if (longer < rules.min_side_px || longer > rules.max_aspect * shorter) return false;
+  const double tolerance = std::clamp(0.02 * cv::arcLength(contour, true), 2.0, 5.0);
+  cv::approxPolyDP(contour, polygon, tolerance, true);
+  return static_cast<int>(polygon.size()) <= rules.max_vertices;
+}
+
+// Unites overlapping boxes until all are disjoint, so every boundary lies whole in one box.
+void merge_overlapping(std::vector<cv::Rect>& boxes) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      for (std::size_t j = i + 1; j < boxes.size();) {
+        if ((boxes[i] & boxes[j]).area() > 0) {
+          boxes[i] |= boxes[j];
+          boxes[j] = boxes.back();
+          boxes.pop_back();
+          merged = true;
+        } else {
+          ++j;
+        }
+      }
+    }
+  }
+}
+
+// Black-white changes between neighbours along the rows.
+std::size_t row_changes(const cv::Mat& binary) {
+  std::size_t changes = 0;
+  for (int r = 0; r < binary.rows; ++r) {
+    const std::uint8_t* row = binary.ptr<std::uint8_t>(r);
+    unsigned in_row = 0;
+    for (int c = 1; c < binary.cols; ++c) in_row += row[c] != row[c - 1];
+    changes += in_row;
+  }
+  return changes;
+}
+
+}  // namespace
+
+bool is_binary(const cv::Mat& image) {
+  CV_Assert(image.type() == CV_8UC1);
+  for (int r = 0; r < image.rows; ++r) {
+    const std::uint8_t* row = image.ptr<std::uint8_t>(r);
+    // v + 1 wraps 255 to 0, so (v + 1) & 0xFE is zero exactly for 0 and 255.
+    std::uint8_t other = 0;
+    for (int c = 0; c < image.cols; ++c) other |= static_cast<std::uint8_t>(row[c] + 1) & 0xFE;
+    if (other) return false;
+  }
+  return true;
+}
+
+std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules) {
+  const cv::Size size = binary.size();
+  const std::vector<cv::Rect> whole{cv::Rect(cv::Point(0, 0), size)};
+  if (static_cast<double>(row_changes(binary)) >
+      rules.max_change_density * static_cast<double>(size.area()))
+    return whole;
+  thread_local std::vector<std::vector<cv::Point>> contours;
+  thread_local std::vector<cv::Point> polygon;
+  contours.clear();
+  cv::findContours(binary, contours, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE);
+  std::vector<cv::Rect> boxes;
+  for (const std::vector<cv::Point>& contour : contours) {
+    const cv::Rect box = cv::boundingRect(contour);
+    if (!could_be_quad(contour, box, size, rules, polygon)) continue;
+    if (boxes.size() == kMostCandidates) return whole;
+    const int longer = std::max(box.width, box.height);
+    const int margin = rules.margin_px + static_cast<int>(std::ceil(rules.reach * longer));
+    boxes.push_back(widened(box, margin, size));
+  }
+  merge_overlapping(boxes);
+  double area = 0;
+  for (const cv::Rect& box : boxes) area += box.area();
+  if (area > rules.max_coverage * static_cast<double>(size.area())) return whole;
+  return boxes;
+}
+
+}  // namespace iilfm::detail

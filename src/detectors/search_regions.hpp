@@ -1,0 +1,64 @@
+// Where in a binary image a square-marker detector can find a quad: the boxes around black-white
+// boundaries shaped like a quadrilateral. libapriltag's cost grows with the pixels it is given
+// (about 8 ns a pixel even where the image is uniform; OpenCV's ArUco is similar), so the AprilTag
+// and ArUco back-ends run on these boxes instead of the whole image.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace iilfm::detail {
+
+struct SearchRegionRules {
+  // How far beyond a quad decoding reads, as a share of the quad's larger side (libapriltag
+  // samples a white row half a cell outside the border, and some families keep data bits outside
+  // it). Already doubled for perspective by the caller.
+  double reach = 0.25;
+  // Pixels added around a boundary besides the reach: the detector's own neighbourhoods (two of
+  // libapriltag's threshold tiles; ArUco's adaptive threshold window).
+  int margin_px = 8;
+  int min_side_px = 8;     // a boundary must span this many pixels one way (the smallest quad)
+  double max_aspect = 16;  // and be at most this much longer than wide
+  int max_vertices = 12;   // its polygon, simplified to a few pixels, has at most this many
+  // Above this share of the image, search the whole of it: on busy real scans (Pandar64, regions
+  // over 45 %) the split ran no faster than one whole-image call.
+  double max_coverage = 0.35;
+  // Above this many black-white changes along the rows per pixel, search the whole image without
+  // tracing its boundaries (a cluttered scan: 0.035 on the real Pandar64 ones, whose tracing cost
+  // 1 ms of their 7.5; the bench scenes 0.0006-0.0035).
+  double max_change_density = 0.015;
+};
+
+// True when every pixel of the 8-bit image is 0 or 255.
+bool is_binary(const cv::Mat& image);
+
+// Disjoint boxes of `binary` (0 or 255) covering every black-white boundary that could be the
+// border of a marker, each widened by the rules' reach and margin and aligned to libapriltag's
+// 4-pixel threshold tiles, so that the threshold libapriltag computes inside a box is the one it
+// computes there on the whole image. A boundary that touches the image edge is left out: a
+// marker's border needs white beyond it inside the image. Returns the whole image when the boxes
+// would cover more than max_coverage of it or the image changes too often to be worth tracing, and
+// nothing when no boundary qualifies.
+std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules);
+
+// Calls detect_in(part, origin) for each search region of `image` (a copy of its pixels in
+// `crop`, whose pixel (0, 0) is `origin` of the image), or once for the whole image when `use`
+// is false or the image is not binary.
+template <typename DetectIn>
+void detect_in_search_regions(const cv::Mat& image, bool use, const SearchRegionRules& rules,
+                              cv::Mat& crop, DetectIn&& detect_in) {
+  if (!use || !is_binary(image)) {
+    detect_in(image, cv::Point(0, 0));
+    return;
+  }
+  for (const cv::Rect& box : search_regions(image, rules)) {
+    if (box.size() == image.size()) {
+      detect_in(image, cv::Point(0, 0));
+    } else {
+      image(box).copyTo(crop);
+      detect_in(crop, box.tl());
+    }
+  }
+}
+
+}  // namespace iilfm::detail
