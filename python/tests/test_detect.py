@@ -187,6 +187,20 @@ def test_ring_decoding_options_reach_the_pipeline():
     assert ids(ring_decode=False) == []
 
 
+def test_search_regions_find_the_markers_of_the_whole_image():
+    """AprilTag and ArUco search only around quad-shaped boundaries by default
+    (docs/detectors.md, "Search regions"); search_regions=False searches every pixel. Same markers,
+    corners within libapriltag's rounding."""
+    for sensor, size, frames in (("vlp16", 0.6, 1), ("mid40", 0.172, 10)):
+        cloud, _ = iilfm.simulate(sensor=sensor, seed=2, frames=frames, marker_size=size,
+                                  distance=2.0)
+        def markers(**options):
+            return iilfm.Pipeline(sensor, marker_size=size, **options).detect(cloud).markers
+        near, whole = markers(), markers(search_regions=False)
+        assert [m.id for m in near] == [m.id for m in whole] == [0], sensor
+        assert np.abs(np.asarray(near[0].corners_px) - np.asarray(whole[0].corners_px)).max() < 0.15
+
+
 def test_a_ring_marker_alone_has_a_pose_whose_turn_is_a_convention():
     """A ring marker's code is the same at every turn: its centre and the fitted plane give its
     pose, y taken as the LiDAR's up seen in the face (docs/detectors.md)."""
