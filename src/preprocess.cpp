@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -66,9 +67,12 @@ IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask,
 }
 
 // Intensity that maps to gray 255: the 99th percentile of observed values, so a few
-// retro-reflectors do not darken everything else. Every 4th pixel of every 2nd row is plenty for a
-// percentile of a display scale and keeps this off the frame's critical path.
+// retro-reflectors do not darken everything else. A grid of at most about 16k pixels (every 4th
+// pixel of every 2nd row, sparser on large images) is plenty for a percentile of a display scale
+// (its rank within 0.2 % at two standard errors) and keeps the selection off the frame's critical
+// path: 74k values of a Mid-40 image took 0.4 ms.
 double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
+  constexpr double kMaxSampled = 16384;
   thread_local std::vector<float> values;  // reused: no allocation once warm
   values.reserve(static_cast<std::size_t>(intensity.total() / 8 + 1));
   auto sample = [&](int row_step, int col_step) {
@@ -80,7 +84,11 @@ double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
         if (m[c]) values.push_back(v[c]);
     }
   };
-  sample(2, 4);
+  const double sparser = std::sqrt(static_cast<double>(intensity.total()) / 8 / kMaxSampled);
+  if (sparser > 1)
+    sample(static_cast<int>(std::ceil(2 * sparser)), static_cast<int>(std::ceil(4 * sparser)));
+  else
+    sample(2, 4);
   if (values.size() < 1000) sample(1, 1);  // sparse or small images: use every pixel
   if (values.empty()) return 1.0;
   const std::size_t k = (values.size() * 99) / 100;
@@ -222,13 +230,28 @@ IILFM_AVX2_CLONES void classify_holes(const cv::Mat& valid, int block, cv::Mat& 
         column_white[c] += m[c] & d[c] & 1;
       }
     }
-    int* white = out.block_white.data() + static_cast<std::size_t>(br) * bw;
-    int* observed = out.block_observed.data() + static_cast<std::size_t>(br) * bw;
-    for (int c = 0, bc = 0; c < cols; c += block, ++bc) {
-      for (int k = c; k < std::min(cols, c + block); ++k) {
-        white[bc] += column_white[k];
-        observed[bc] += column_observed[k];
+    int* __restrict white = out.block_white.data() + static_cast<std::size_t>(br) * bw;
+    int* __restrict observed = out.block_observed.data() + static_cast<std::size_t>(br) * bw;
+    const int whole = cols / block;  // blocks whose `block` columns all lie in the image
+    if (block == 2) {  // the default, in a loop without an inner one, so it vectorises
+      for (int bc = 0; bc < whole; ++bc) {
+        white[bc] = column_white[2 * bc] + column_white[2 * bc + 1];
+        observed[bc] = column_observed[2 * bc] + column_observed[2 * bc + 1];
       }
+    } else {
+      for (int bc = 0; bc < whole; ++bc) {
+        int w = 0, n = 0;  // in registers, not added into the arrays column by column
+        for (int k = bc * block; k < (bc + 1) * block; ++k) {
+          w += column_white[k];
+          n += column_observed[k];
+        }
+        white[bc] = w;
+        observed[bc] = n;
+      }
+    }
+    for (int k = whole * block; k < cols; ++k) {  // the last, partial block
+      white[whole] += column_white[k];
+      observed[whole] += column_observed[k];
     }
   }
   // Each block with the 8 around it: sums across (a block and its left and right neighbours),
@@ -277,8 +300,15 @@ IILFM_AVX2_CLONES void classify_holes(const cv::Mat& valid, int block, cv::Mat& 
       cls[bc] = (n == 0 || 2 * w > n) ? 255 : 0;
     }
     std::uint8_t* __restrict expanded = out.hole_class.ptr<std::uint8_t>(br);
-    for (int k = 0; k < block; ++k)
-      for (int bc = 0; bc < whole; ++bc) expanded[bc * block + k] = cls[bc];
+    if (block == 2) {  // the default: two bytes a block, in a loop that vectorises
+      for (int bc = 0; bc < whole; ++bc) {
+        const std::uint16_t pair = static_cast<std::uint16_t>(cls[bc] * 0x0101u);
+        std::memcpy(expanded + 2 * bc, &pair, 2);
+      }
+    } else {
+      for (int bc = 0; bc < whole; ++bc)
+        for (int k = 0; k < block; ++k) expanded[bc * block + k] = cls[bc];
+    }
     for (int c = whole * block; c < cols; ++c) expanded[c] = cls[whole];
   }
   for (int r = 0; r < rows; ++r) {

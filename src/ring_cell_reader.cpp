@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
 
+#include "cpu_clones.hpp"
+
 namespace iilfm::detail {
 
 namespace {
@@ -86,7 +88,9 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
       if (!g.contains_pixel(c, row) || !image.observed(c, row)) continue;
       // The pixel's own direction, at the unwrapped column so it lies beside the marker.
       const Vec2 t = frame.of(g.ray(col, row));
-      samples_.push_back({t.x(), t.y(), intensity.at<float>(row, c)});
+      a_.push_back(t.x());
+      b_.push_back(t.y());
+      intensity_.push_back(intensity.at<float>(row, c));
     }
   }
 }
@@ -108,20 +112,47 @@ cv::Matx33d shifted_tangent_to_cell(std::vector<cv::Point2f> quad, float top, fl
 
 void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Placed>& out) const {
   out.clear();
-  if (samples_.empty()) return;
+  if (a_.empty()) return;
   const cv::Matx33d H =
       shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
                               static_cast<float>(shift_bottom * cell_height_), n_);
-  for (const Sample& s : samples_) {
-    const cv::Point2d c = apply(H, s.a, s.b);
-    out.push_back({c.x + start_, c.y + start_, s.intensity});
+  for (std::size_t i = 0; i < a_.size(); ++i) {
+    const cv::Point2d c = apply(H, a_[i], b_[i]);
+    out.push_back({c.x + start_, c.y + start_, intensity_[i]});
   }
 }
+
+namespace {
+
+// The printed cell each sample falls in under the homography H (tangent plane to cells, offset by
+// `start`), as read_cells places it: row * T + col, or -1 outside the T x T print or off the
+// middle `2 half` of its cell. No branches, so it vectorises; the search over placings runs it
+// hundreds of times per quad.
+IILFM_AVX2_CLONES void cells_of_samples(const cv::Matx33d& H, double start, int T, double half,
+                                        const double* __restrict a, const double* __restrict b,
+                                        std::size_t n, std::int32_t* __restrict cell) {
+  const double h00 = H(0, 0), h01 = H(0, 1), h02 = H(0, 2), h10 = H(1, 0), h11 = H(1, 1),
+               h12 = H(1, 2), h20 = H(2, 0), h21 = H(2, 1), h22 = H(2, 2);
+  const double width = T;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double inverse_w = 1.0 / (h20 * a[i] + h21 * b[i] + h22);
+    const double x = (h00 * a[i] + h01 * b[i] + h02) * inverse_w + start;
+    const double y = (h10 * a[i] + h11 * b[i] + h12) * inverse_w + start;
+    const bool inside = (x >= 0) & (y >= 0) & (x < width) & (y < width);  // false for NaN
+    // Clamped before the conversion, which is undefined out of int's range (NaN gives 0).
+    const double xc = std::min(std::max(0.0, x), width), yc = std::min(std::max(0.0, y), width);
+    const auto col = static_cast<std::int32_t>(xc), row = static_cast<std::int32_t>(yc);
+    const bool central = (std::abs(x - col - 0.5) <= half) & (std::abs(y - row - 0.5) <= half);
+    cell[i] = inside & central ? row * T + col : -1;
+  }
+}
+
+}  // namespace
 
 double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
                                       const CellCodeBook& book, const CellReadOptions& options,
                                       Scratch& scratch) const {
-  if (samples_.empty()) return -1;
+  if (a_.empty()) return -1;
   const cv::Matx33d H =
       shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
                               static_cast<float>(shift_bottom * cell_height_), n_);
@@ -130,22 +161,18 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
   scratch.count.assign(scratch.sum.size(), 0);
   scratch.black.clear();
   scratch.white.clear();
-  const double half = 0.5 * options.central_fraction;
-  for (const Sample& s : samples_) {
-    // As read_cells does with place()'s output, for the fixed cells only.
-    const double inverse_w = 1.0 / (H(2, 0) * s.a + H(2, 1) * s.b + H(2, 2));
-    const double x = (H(0, 0) * s.a + H(0, 1) * s.b + H(0, 2)) * inverse_w + start_;
-    const double y = (H(1, 0) * s.a + H(1, 1) * s.b + H(1, 2)) * inverse_w + start_;
-    if (!(x >= 0 && y >= 0 && x < T && y < T)) continue;
-    const int col = static_cast<int>(x), row = static_cast<int>(y);
-    if (std::abs(x - col - 0.5) > half || std::abs(y - row - 0.5) > half) continue;
-    const int role = book.cell_role(col, row);
+  // As read_cells does with place()'s output, for the fixed cells only.
+  scratch.cell.resize(a_.size());
+  cells_of_samples(H, start_, T, 0.5 * options.central_fraction, a_.data(), b_.data(), a_.size(),
+                   scratch.cell.data());
+  for (std::size_t k = 0; k < a_.size(); ++k) {
+    const std::int32_t i = scratch.cell[k];
+    if (i < 0) continue;
+    const int role = book.cell_role(i % T, i / T);
     if (role >= 0) continue;
-    const std::size_t i = static_cast<std::size_t>(row) * T + col;
-    scratch.sum[i] += s.intensity;
-    ++scratch.count[i];
-    if (role == CellCodeBook::kFixedBlack) scratch.black.push_back(s.intensity);
-    if (role == CellCodeBook::kFixedWhite) scratch.white.push_back(s.intensity);
+    scratch.sum[static_cast<std::size_t>(i)] += intensity_[k];
+    ++scratch.count[static_cast<std::size_t>(i)];
+    (role == CellCodeBook::kFixedBlack ? scratch.black : scratch.white).push_back(intensity_[k]);
   }
   if (scratch.black.empty() || scratch.white.empty()) return -1;
   const double black = median(scratch.black), white = median(scratch.white);

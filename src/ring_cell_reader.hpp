@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -26,8 +27,8 @@ class MarkerSamples {
   MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
                 const cv::Mat& intensity, const CellCodeBook& book);
 
-  bool empty() const { return samples_.empty(); }
-  std::size_t size() const { return samples_.size(); }
+  bool empty() const { return a_.empty(); }
+  std::size_t size() const { return a_.size(); }
 
   // Where each sample lies on the print when the black square's top side is moved by `shift_top`
   // and its bottom side by `shift_bottom` cell heights along the image's vertical (down
@@ -46,16 +47,16 @@ class MarkerSamples {
     std::vector<double> sum;
     std::vector<int> count;
     std::vector<float> black, white;
+    std::vector<std::int32_t> cell;  // each sample's cell index, -1 when it counts for none
   };
   double fixed_agreement(double shift_top, double shift_bottom, const CellCodeBook& book,
                          const CellReadOptions& options, Scratch& scratch) const;
 
  private:
-  struct Sample {
-    double a, b;  // tangent-plane coordinates (b grows downwards in the image)
-    float intensity;
-  };
-  std::vector<Sample> samples_;
+  // Tangent-plane coordinates (b grows downwards in the image) and intensity of each sample, in
+  // separate arrays so the per-placing mapping vectorises.
+  std::vector<double> a_, b_;
+  std::vector<float> intensity_;
   std::vector<cv::Point2f> quad_;  // the corners in the tangent plane
   double cell_height_ = 0;         // tangent units per cell along b
   double start_ = 0;               // printed cell of the black square's corner

@@ -3,8 +3,31 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+
+#include "cpu_clones.hpp"
 
 namespace iilfm {
+
+namespace {
+
+// One output row: `near`'s value where it was observed, else `far`'s, else unobserved (0). Loads
+// before selects, so the loop vectorises.
+IILFM_AVX2_CLONES void merge_rows(const float* __restrict near,
+                                  const std::uint8_t* __restrict near_valid,
+                                  const float* __restrict far,
+                                  const std::uint8_t* __restrict far_valid, int width,
+                                  float* __restrict out, std::uint8_t* __restrict out_valid) {
+  for (int c = 0; c < width; ++c) {
+    const float a = near[c], b = far[c];
+    const std::uint8_t has_a = near_valid[c], has_b = far_valid[c];
+    const float b_or_zero = has_b ? b : 0.0f;
+    out[c] = has_a ? a : b_or_zero;
+    out_valid[c] = (has_a | has_b) ? 255 : 0;
+  }
+}
+
+}  // namespace
 
 bool needs_square_pixels(const ImageGeometry& g) {
   if (g.height <= 1) return false;
@@ -36,30 +59,27 @@ void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeomet
   out_image.create(to.height, to.width, CV_32F);
   out_valid.create(to.height, to.width, CV_8U);
   const int last = from.height - 1;
+  int previous_near = -1, previous_far = -1;
   for (int r = 0; r < to.height; ++r) {
     const double v =
         std::clamp(from.v_of_elevation(to.elevation_of_v(r)), 0.0, static_cast<double>(last));
     const int r0 = std::min(static_cast<int>(v), std::max(last - 1, 0));
     const int r1 = std::min(r0 + 1, last);
-    const float w = static_cast<float>(v - r0);
-    const float* a = image.ptr<float>(r0);
-    const float* b = image.ptr<float>(r1);
-    const std::uint8_t* va = valid.ptr<std::uint8_t>(r0);
-    const std::uint8_t* vb = valid.ptr<std::uint8_t>(r1);
+    // The nearer row's value where it was observed, else the farther one's.
+    const bool first_nearer = static_cast<float>(v - r0) < 0.5f;
+    const int near = first_nearer ? r0 : r1, far = first_nearer ? r1 : r0;
     float* o = out_image.ptr<float>(r);
     std::uint8_t* vo = out_valid.ptr<std::uint8_t>(r);
-    for (int c = 0; c < to.width; ++c) {
-      if (va[c] && vb[c]) {
-        o[c] = w < 0.5f ? a[c] : b[c];
-        vo[c] = 255;
-      } else if (va[c] || vb[c]) {
-        o[c] = va[c] ? a[c] : b[c];
-        vo[c] = 255;
-      } else {
-        o[c] = 0;
-        vo[c] = 0;
-      }
+    if (near == previous_near && far == previous_far) {  // most rows repeat the one above
+      std::memcpy(o, out_image.ptr<float>(r - 1),
+                  sizeof(float) * static_cast<std::size_t>(to.width));
+      std::memcpy(vo, out_valid.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(to.width));
+    } else {
+      merge_rows(image.ptr<float>(near), valid.ptr<std::uint8_t>(near), image.ptr<float>(far),
+                 valid.ptr<std::uint8_t>(far), to.width, o, vo);
     }
+    previous_near = near;
+    previous_far = far;
   }
 }
 
