@@ -142,6 +142,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.threads = args.threads;
   options.projection.threads = args.threads;
+  options.lift_threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;
@@ -378,8 +379,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-search-regions", args->no_search_regions,
                 "AprilTag and ArUco: search every pixel, not only the boxes around quad-shaped "
                 "black-white boundaries of the binary image (same markers, slower)");
-  cmd->add_option("--threads", args->threads,
-                  "threads for AprilTag and for projecting large clouds")
+  cmd->add_option(
+         "--threads", args->threads,
+         "threads for AprilTag, for projecting large clouds and for lifting several markers")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--aruco-refine", args->aruco_refine,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 
 #include "iilfm/duplicates.hpp"
 #include "iilfm/edge_refine.hpp"
@@ -11,6 +12,7 @@
 #include "iilfm/pose.hpp"
 #include "iilfm/pose_covariance.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "parallel_parts.hpp"
 #include "ring_decoding.hpp"
 #include "seam_detection.hpp"
 
@@ -252,6 +254,57 @@ void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
   detections.resize(kept);
 }
 
+MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
+                                   const ProjectedImage& image) const {
+  MarkerResult marker;
+  if (options_.edge_refine) {
+    const EdgeRefinement edges = refine_edges_to_mid_level(
+        detection.corners_px, image, family_layout(detection.family).border_width);
+    if (edges.ok) detection.corners_px = edges.corners_px;
+  }
+  if (options_.lift == LiftMethod::kPlane) {
+    marker.plane = fit_marker_plane(keypoint_outline(detection), image, cloud, options_.plane_fit);
+    for (const Vec2& px : detection.corners_px)
+      marker.corners.push_back(lift_on_plane(px, image, *marker.plane));
+  } else {
+    for (const Vec2& px : detection.corners_px)
+      marker.corners.push_back(lift_paper(px, image, options_.lift_options));
+  }
+  marker.detection = std::move(detection);
+  const MapMarker* mapped =
+      options_.map ? options_.map->find(marker.detection.family, marker.detection.id) : nullptr;
+  marker.in_map = mapped != nullptr;
+  const std::optional<double> size =
+      mapped ? std::optional<double>(mapped->size) : options_.marker_size;
+  if (size)
+    estimate_marker_pose(marker, *size, options_.fit_known_size, image, options_.edge_sigma_px);
+  return marker;
+}
+
+void Pipeline::lift_markers(std::vector<Detection>& detections, const PointView& cloud,
+                            FrameResult& r) const {
+  // Markers are lifted independently (the plane fit's buffers are per thread), each into its own
+  // slot, so the results do not depend on the threads. A small cloud's lifts take less than a
+  // thread's start.
+  constexpr std::size_t kMinPointsForThreads = 32768;
+  const std::size_t n = detections.size();
+  r.markers.resize(n);
+  const int parts =
+      cloud.size() >= kMinPointsForThreads ? detail::parts_for(options_.lift_threads, n, 1) : 1;
+  std::vector<std::exception_ptr> failures(static_cast<std::size_t>(parts));
+  detail::in_parts(parts, [&](int k, int count) {
+    const auto [begin, end] = detail::part_range(n, k, count);
+    try {
+      for (std::size_t i = begin; i < end; ++i)
+        r.markers[i] = lift_marker(std::move(detections[i]), cloud, r.image);
+    } catch (...) {
+      failures[static_cast<std::size_t>(k)] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+}
+
 const FrameResult& Pipeline::process_projected(const PointView& cloud, double project_ms) {
   FrameResult& r = result_;
   r.markers.clear();
@@ -308,32 +361,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
                    });
   r.times_ms.detect = watch.lap_ms();
 
-  for (Detection& detection : detections) {
-    MarkerResult marker;
-    if (options_.edge_refine) {
-      const EdgeRefinement edges = refine_edges_to_mid_level(
-          detection.corners_px, r.image, family_layout(detection.family).border_width);
-      if (edges.ok) detection.corners_px = edges.corners_px;
-    }
-    if (options_.lift == LiftMethod::kPlane) {
-      marker.plane =
-          fit_marker_plane(keypoint_outline(detection), r.image, cloud, options_.plane_fit);
-      for (const Vec2& px : detection.corners_px)
-        marker.corners.push_back(lift_on_plane(px, r.image, *marker.plane));
-    } else {
-      for (const Vec2& px : detection.corners_px)
-        marker.corners.push_back(lift_paper(px, r.image, options_.lift_options));
-    }
-    marker.detection = std::move(detection);
-    const MapMarker* mapped =
-        options_.map ? options_.map->find(marker.detection.family, marker.detection.id) : nullptr;
-    marker.in_map = mapped != nullptr;
-    const std::optional<double> size =
-        mapped ? std::optional<double>(mapped->size) : options_.marker_size;
-    if (size)
-      estimate_marker_pose(marker, *size, options_.fit_known_size, r.image, options_.edge_sigma_px);
-    r.markers.push_back(std::move(marker));
-  }
+  lift_markers(detections, cloud, r);
   r.times_ms.lift = watch.lap_ms();
 
   if (!options_.map) {

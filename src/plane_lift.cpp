@@ -9,6 +9,7 @@
 
 #include "iilfm/lift.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "plane_fit_passes.hpp"
 
 namespace iilfm {
 
@@ -49,6 +50,22 @@ struct Moments {
   }
 };
 
+Moments moments_of(const detail::CoordinateSums& s, const Vec3& ref) {
+  Moments m;
+  m.ref = ref;
+  m.n = s.n;
+  m.x = s.x;
+  m.y = s.y;
+  m.z = s.z;
+  m.xx = s.xx;
+  m.xy = s.xy;
+  m.xz = s.xz;
+  m.yy = s.yy;
+  m.yz = s.yz;
+  m.zz = s.zz;
+  return m;
+}
+
 // Least-squares plane through the points summed in `m` (smallest principal axis of their
 // scatter), without its uncertainty (add_plane_uncertainty): the robust fit's intermediate planes
 // do not need it.
@@ -82,21 +99,16 @@ using Indices = std::vector<std::uint32_t>;
 // without each patch in turn. Range errors correlated between neighbouring points tilt the fit
 // more than independent residuals can say; the patches' spread shows it. Zero when fewer than 6
 // patches hold points.
-Eigen::Vector2d jackknife_slope_variance(const std::vector<Vec3>& points, const Indices& used,
-                                         const Plane& plane, const Eigen::Vector4d& extent) {
+Eigen::Vector2d jackknife_slope_variance(const detail::FitPoints& fit, const Plane& plane,
+                                         const double extent[4]) {
   constexpr int kGrid = 4;
   std::array<Moments, kGrid * kGrid> patches;
   for (Moments& m : patches) m.ref = plane.centre;
-  const double scale1 = kGrid / std::max(extent(1) - extent(0), 1e-9);
-  const double scale2 = kGrid / std::max(extent(3) - extent(2), 1e-9);
-  for (std::uint32_t i : used) {
-    const Vec3 q = points[i] - plane.centre;
-    const int b1 =
-        std::clamp(static_cast<int>((q.dot(plane.axis1) - extent(0)) * scale1), 0, kGrid - 1);
-    const int b2 =
-        std::clamp(static_cast<int>((q.dot(plane.axis2) - extent(2)) * scale2), 0, kGrid - 1);
-    patches[static_cast<std::size_t>(b1 * kGrid + b2)].add(points[i]);
-  }
+  thread_local std::vector<std::int32_t> patch;
+  patch.resize(fit.size());
+  detail::grid_patches(fit, plane.centre, plane.axis1, plane.axis2, extent, kGrid, patch.data());
+  for (std::size_t k = 0; k < fit.size(); ++k)
+    patches[static_cast<std::size_t>(patch[k])].add(Vec3(fit.x[k], fit.y[k], fit.z[k]));
   Moments total;
   total.ref = plane.centre;
   for (const Moments& patch : patches) total.merge(patch, 1);
@@ -128,31 +140,20 @@ Eigen::Vector2d jackknife_slope_variance(const std::vector<Vec3>& points, const 
 // the 3 fitted parameters. A slope's variance is the larger of that and the block jackknife's
 // (measured on the multi-marker scenes: the sandwich alone claimed 1.3 mrad where the normals were
 // 1.9 mrad off per axis, the jackknife 1.8).
-void add_plane_uncertainty(const std::vector<Vec3>& points, const Indices& used, Plane& plane) {
+void add_plane_uncertainty(const detail::FitPoints& fit, Plane& plane) {
   if (!plane.ok) return;
-  const double n = static_cast<double>(used.size());
-  double sum_sq = 0, s1 = 0, s2 = 0, h1 = 0, h2 = 0;
-  Eigen::Vector4d extent(1e300, -1e300, 1e300, -1e300);
-  for (std::uint32_t i : used) {
-    const Vec3& p = points[i];
-    const double r = plane.normal.dot(p) - plane.d;
-    const double r2 = r * r;
-    const Vec3 q = p - plane.centre;
-    const double x1 = q.dot(plane.axis1), x2 = q.dot(plane.axis2);
-    sum_sq += r2;
-    s1 += x1 * x1;
-    s2 += x2 * x2;
-    h1 += x1 * x1 * r2;
-    h2 += x2 * x2 * r2;
-    extent = Eigen::Vector4d(std::min(extent(0), x1), std::max(extent(1), x1),
-                             std::min(extent(2), x2), std::max(extent(3), x2));
-  }
+  const double n = static_cast<double>(fit.size());
+  const detail::SpreadSums spread =
+      detail::spread_sums(fit, plane.normal, plane.d, plane.centre, plane.axis1, plane.axis2);
+  const double sum_sq = spread.sum_sq, s1 = spread.s1, s2 = spread.s2, h1 = spread.h1,
+               h2 = spread.h2;
+  const double extent[4] = {spread.min1, spread.max1, spread.min2, spread.max2};
   plane.rms = std::sqrt(sum_sq / n);
-  const double dof_scale = used.size() > 3 ? n / (n - 3) : 0;
+  const double dof_scale = fit.size() > 3 ? n / (n - 3) : 0;
   plane.offset_variance = dof_scale * sum_sq / (n * n);
   plane.slope_variance = Eigen::Vector2d(dof_scale * h1 / (s1 * s1), dof_scale * h2 / (s2 * s2));
   plane.slope_variance =
-      plane.slope_variance.cwiseMax(jackknife_slope_variance(points, used, plane, extent));
+      plane.slope_variance.cwiseMax(jackknife_slope_variance(fit, plane, extent));
 }
 
 // Median of `values`: exact up to 16384 values (a marker's own points), above that the median of
@@ -297,31 +298,24 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
 Plane robust_plane(const std::vector<Vec3>& points, Indices& used, const PlaneFitOptions& options,
                    double* band_out) {
   if (used.empty()) return Plane{};
-  Moments all;
-  all.ref = points[used.front()];
-  for (std::uint32_t i : used) all.add(points[i]);
-  Plane plane = plane_from_moments(all);
+  thread_local detail::FitPoints current, kept;
+  detail::load_fit_points(points, used, current);
+  const Vec3 first = points[used.front()];
+  Plane plane = plane_from_moments(moments_of(detail::coordinate_sums(current, first), first));
   thread_local std::vector<double> residuals;
-  thread_local Indices kept;
   double band = options.min_inlier_band_m;
   for (int it = 0; it < options.iterations && plane.ok; ++it) {
-    residuals.clear();
-    for (std::uint32_t i : used)
-      residuals.push_back(std::abs(plane.normal.dot(points[i]) - plane.d));
+    residuals.resize(current.size());
+    detail::plane_residuals(current, plane.normal, plane.d, residuals.data());
     band = std::max(options.min_inlier_band_m, 3 * 1.4826 * median_of(residuals));
-    Moments moments;
-    moments.ref = plane.centre;
-    kept.clear();
-    for (std::size_t k = 0; k < used.size(); ++k)
-      if (residuals[k] <= band) {
-        moments.add(points[used[k]]);
-        kept.push_back(used[k]);
-      }
-    if (kept.size() < options.min_points || kept.size() == used.size()) break;
-    used.swap(kept);
-    plane = plane_from_moments(moments);
+    const std::size_t n_kept = detail::keep_within(current, residuals.data(), band, kept);
+    if (n_kept < options.min_points || n_kept == current.size()) break;
+    std::swap(current, kept);
+    plane = plane_from_moments(
+        moments_of(detail::coordinate_sums(current, plane.centre), plane.centre));
   }
-  add_plane_uncertainty(points, used, plane);
+  used.assign(current.index.begin(), current.index.end());
+  add_plane_uncertainty(current, plane);
   if (band_out) *band_out = band;
   return plane;
 }

@@ -1,6 +1,7 @@
 // Several Pipeline objects, one per thread, on different scans at once give exactly what each gives
-// alone: nothing in the pipeline, its detectors or its options is shared mutable state. Built and
-// run under ThreadSanitizer by scripts/tsan.sh (CI), which also reports any data race it sees.
+// alone: nothing in the pipeline, its detectors or its options is shared mutable state. The same
+// for a pipeline's own threads (projection, lift). Built and run under ThreadSanitizer by
+// scripts/tsan.sh (CI), which also reports any data race it sees.
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -137,6 +138,26 @@ TEST(ProjectionThreads, SplitPassesGiveTheOneThreadImages) {
     EXPECT_EQ(one.points_projected, three.points_projected);
   }
   EXPECT_GT(one.points_projected, 60000u);
+}
+
+TEST(LiftThreads, MarkersLiftedOnThreadsGiveTheOneThreadResults) {
+  // PipelineOptions::lift_threads: each marker's plane fit and pose on one of three threads (the
+  // sweep holds 65k points, above the 32k below which lifting stays on one thread).
+  for (int k = 0; k < 2; ++k) {
+    const PointCloud& cloud = scans().scans[k].cloud;
+    ASSERT_GE(cloud.size(), 32768u);
+    Pipeline one(os1_options());
+    const Outcome alone = outcome_of(one.process(cloud));
+    ASSERT_GE(alone.ids.size(), 3u) << "scan " << k;
+    PipelineOptions options = os1_options();
+    options.lift_threads = 3;
+    Pipeline three(options);
+    for (int run = 0; run < 2; ++run) {
+      const FrameResult& r = three.process(cloud);
+      expect_identical(alone, outcome_of(r), k);
+      for (const MarkerResult& m : r.markers) EXPECT_TRUE(m.T_lidar_marker) << "scan " << k;
+    }
+  }
 }
 
 }  // namespace

@@ -1,0 +1,59 @@
+// The passes of the robust plane fit over its points (plane_lift.cpp), on coordinates held in
+// separate arrays so that each pass vectorises: a coplanar wall gives the fit ~10^5 points, read
+// several times per marker. Sums run in four interleaved lanes, added in a fixed order at the end,
+// so the result is the same whatever vector width the CPU has.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "iilfm/types.hpp"
+
+namespace iilfm::detail {
+
+// A fit's points and, for each, its index in the gathered set.
+struct FitPoints {
+  std::vector<double> x, y, z;
+  std::vector<std::uint32_t> index;
+
+  std::size_t size() const { return index.size(); }
+  void resize(std::size_t n) {
+    x.resize(n);
+    y.resize(n);
+    z.resize(n);
+    index.resize(n);
+  }
+};
+
+// points[used[k]] for every k, in that order.
+void load_fit_points(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& used,
+                     FitPoints& out);
+
+// Sums of the coordinates about `ref` and of their products.
+struct CoordinateSums {
+  double n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+};
+CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref);
+
+// |normal . p - d| of every point into `residual` (p.size() values).
+void plane_residuals(const FitPoints& p, const Vec3& normal, double d, double* residual);
+
+// The points whose residual is at most `band`, in order, into `to`; returns how many.
+std::size_t keep_within(const FitPoints& from, const double* residual, double band, FitPoints& to);
+
+// For a plane's uncertainty: the residuals' squares, each point's in-plane coordinates (x1, x2
+// along axis1, axis2 about `centre`) squared and weighted by them, and the coordinates' extent.
+struct SpreadSums {
+  double sum_sq = 0, s1 = 0, s2 = 0, h1 = 0, h2 = 0;
+  double min1 = 1e300, max1 = -1e300, min2 = 1e300, max2 = -1e300;
+};
+SpreadSums spread_sums(const FitPoints& p, const Vec3& normal, double d, const Vec3& centre,
+                       const Vec3& axis1, const Vec3& axis2);
+
+// Each point's patch of a grid x grid split of the plane along axis1 and axis2 about `centre`
+// (extent: x1 from, to, x2 from, to), as b1 * grid + b2, clamped to the grid.
+void grid_patches(const FitPoints& p, const Vec3& centre, const Vec3& axis1, const Vec3& axis2,
+                  const double extent[4], int grid, std::int32_t* patch);
+
+}  // namespace iilfm::detail

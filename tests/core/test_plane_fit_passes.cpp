@@ -1,0 +1,103 @@
+// The vectorised passes of the robust plane fit against plain loops over the same points.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "../../src/plane_fit_passes.hpp"
+
+namespace iilfm::detail {
+namespace {
+
+// 1003 points (not a multiple of the 4 lanes) scattered about a tilted plane 3 m away.
+FitPoints some_points(std::size_t n = 1003) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> across(-0.5, 0.5);
+  std::normal_distribution<double> noise(0, 0.004);
+  FitPoints p;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double a = across(rng), b = across(rng);
+    p.x.push_back(3.0 + 0.2 * a + noise(rng));
+    p.y.push_back(a);
+    p.z.push_back(b);
+    p.index.push_back(static_cast<std::uint32_t>(10 * k));
+  }
+  return p;
+}
+
+TEST(PlaneFitPasses, CoordinateSumsAreThePlainSums) {
+  const FitPoints p = some_points();
+  const Vec3 ref(3, 0.1, -0.2);
+  const CoordinateSums s = coordinate_sums(p, ref);
+  double x = 0, yz = 0, zz = 0, xx = 0;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const double a = p.x[k] - ref.x(), b = p.y[k] - ref.y(), c = p.z[k] - ref.z();
+    x += a;
+    xx += a * a;
+    yz += b * c;
+    zz += c * c;
+  }
+  EXPECT_EQ(s.n, 1003.0);
+  EXPECT_NEAR(s.x, x, 1e-10);
+  EXPECT_NEAR(s.xx, xx, 1e-10);
+  EXPECT_NEAR(s.yz, yz, 1e-10);
+  EXPECT_NEAR(s.zz, zz, 1e-10);
+  EXPECT_GT(zz, 50);  // the sums are not trivially zero
+}
+
+TEST(PlaneFitPasses, ResidualsAndKeepWithinKeepTheBandInOrder) {
+  const FitPoints p = some_points();
+  const Vec3 normal = Vec3(1, -0.2, 0).normalized();
+  const double d = normal.x() * 3.0;
+  std::vector<double> residual(p.size());
+  plane_residuals(p, normal, d, residual.data());
+  FitPoints kept;
+  const double band = 0.004;
+  const std::size_t n = keep_within(p, residual.data(), band, kept);
+  std::vector<std::uint32_t> expected;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const double r = std::abs(normal.x() * p.x[k] + normal.y() * p.y[k] + normal.z() * p.z[k] - d);
+    EXPECT_NEAR(residual[k], r, 1e-12);
+    if (r <= band) expected.push_back(p.index[k]);
+  }
+  ASSERT_EQ(n, expected.size());
+  EXPECT_EQ(kept.index, expected);
+  EXPECT_GT(n, 500u);  // about 68 % of a 1-sigma band
+  EXPECT_LT(n, p.size());
+  for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(kept.x[k], p.x[kept.index[k] / 10]);
+}
+
+TEST(PlaneFitPasses, SpreadSumsGiveTheInPlaneExtent) {
+  const FitPoints p = some_points();
+  const Vec3 normal(1, 0, 0), centre(3, 0, 0), axis1(0, 1, 0), axis2(0, 0, 1);
+  const SpreadSums s = spread_sums(p, normal, 3.0, centre, axis1, axis2);
+  double lo = 1e9, hi = -1e9, sum_sq = 0;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    lo = std::min(lo, p.z[k]);
+    hi = std::max(hi, p.y[k]);
+    sum_sq += (p.x[k] - 3) * (p.x[k] - 3);
+  }
+  EXPECT_EQ(s.min2, lo);
+  EXPECT_EQ(s.max1, hi);
+  EXPECT_NEAR(s.sum_sq, sum_sq, 1e-12);
+}
+
+TEST(PlaneFitPasses, GridPatchesClampOutsidersAndNaNToTheEdge) {
+  FitPoints p = some_points(5);
+  // In-plane coordinates (y, z): inside, beyond both far edges, before both near edges, a corner
+  // of the near-far kind, NaN.
+  p.y = {0.1, 9.0, -9.0, 0.4, std::numeric_limits<double>::quiet_NaN()};
+  p.z = {-0.1, 9.0, -9.0, -0.4, 0.0};
+  const double extent[4] = {-0.5, 0.5, -0.5, 0.5};
+  std::vector<std::int32_t> patch(p.size());
+  grid_patches(p, Vec3(3, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), extent, 4, patch.data());
+  EXPECT_EQ(patch[0], 2 * 4 + 1);  // y 0.1 -> column 2 of 4, z -0.1 -> 1
+  EXPECT_EQ(patch[1], 15);
+  EXPECT_EQ(patch[2], 0);
+  EXPECT_EQ(patch[3], 3 * 4 + 0);
+  EXPECT_EQ(patch[4], 0);  // a NaN coordinate makes both dot products NaN: the first patch
+}
+
+}  // namespace
+}  // namespace iilfm::detail
