@@ -85,8 +85,8 @@ TEST(PlaneFitPasses, SpreadSumsGiveTheInPlaneExtent) {
 
 TEST(PlaneFitPasses, GridPatchesClampOutsidersAndNaNToTheEdge) {
   FitPoints p = some_points(5);
-  // In-plane coordinates (y, z): inside, beyond both far edges, before both near edges, a corner
-  // of the near-far kind, NaN.
+  // In-plane coordinates (y, z): inside, beyond both far edges, before both near edges, far in y
+  // and near in z, NaN.
   p.y = {0.1, 9.0, -9.0, 0.4, std::numeric_limits<double>::quiet_NaN()};
   p.z = {-0.1, 9.0, -9.0, -0.4, 0.0};
   const double extent[4] = {-0.5, 0.5, -0.5, 0.5};
