@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the measured section of docs/performance.md: `iilfm bench` (every stage, 1 and 2
-# AprilTag threads) and iilfm side by side with the paper's implementation approach
+# threads) and iilfm side by side with the paper's implementation approach
 # (iilfm_bench_baseline, built when PCL is installed: scripts/setup.sh --bench).
 # Usage: scripts/perf_report.sh [BUILD_DIR] [REPEAT]
 set -euo pipefail
@@ -16,7 +16,7 @@ out="$(mktemp)"
   echo
   "$build/bin/iilfm" bench --markdown --repeat "$repeat"
   echo
-  echo "With two threads for AprilTag and the projection (\`--threads 2\`; the default is 1):"
+  echo "With two threads for AprilTag, the projection and the lift (\`--threads 2\`; the default is 1):"
   echo
   "$build/bin/iilfm" bench --markdown --repeat "$repeat" --threads 2 | grep -v '^iilfm bench'
   if [ -x "$build/bin/iilfm_bench_baseline" ]; then

@@ -128,7 +128,59 @@ IILFM_AVX2_CLONES void patches_of(const double* __restrict x, const double* __re
   }
 }
 
+IILFM_AVX2_CLONES void range_of(const double* __restrict v, std::size_t n, double& lo_out,
+                                double& hi_out) {
+  double lo[kLanes], hi[kLanes];
+  std::fill(lo, lo + kLanes, v[0]);
+  std::fill(hi, hi + kLanes, v[0]);
+  const std::size_t whole = n - n % kLanes;
+  for (std::size_t k = 0; k < whole; k += kLanes)
+    for (std::size_t j = 0; j < kLanes; ++j) {
+      lo[j] = v[k + j] < lo[j] ? v[k + j] : lo[j];
+      hi[j] = v[k + j] > hi[j] ? v[k + j] : hi[j];
+    }
+  for (std::size_t k = whole; k < n; ++k) {
+    lo[0] = v[k] < lo[0] ? v[k] : lo[0];
+    hi[0] = v[k] > hi[0] ? v[k] : hi[0];
+  }
+  lo_out = *std::min_element(lo, lo + kLanes);
+  hi_out = *std::max_element(hi, hi + kLanes);
+}
+
 }  // namespace
+
+double value_of_rank(const double* v, std::size_t n, std::size_t rank) {
+  constexpr std::size_t kDirect = 1024, kBins = 1024;
+  thread_local std::vector<double> chosen;
+  const auto select = [&](std::size_t k) {
+    std::nth_element(chosen.begin(), chosen.begin() + static_cast<std::ptrdiff_t>(k), chosen.end());
+    return chosen[k];
+  };
+  if (n <= kDirect) {
+    chosen.assign(v, v + n);
+    return select(rank);
+  }
+  double lo = 0, hi = 0;
+  range_of(v, n, lo, hi);
+  const double scale = static_cast<double>(kBins) / (hi - lo);
+  if (!(hi > lo) || !std::isfinite(scale)) {  // all equal, or a range too small to split
+    chosen.assign(v, v + n);
+    return select(rank);
+  }
+  // bin(value) never decreases as the value grows, so every value of a lower bin is smaller
+  // than every value of a higher one.
+  const auto bin = [&](double value) {
+    return std::min(kBins - 1, static_cast<std::size_t>(std::max(0.0, (value - lo) * scale)));
+  };
+  std::size_t count[kBins] = {};
+  for (std::size_t k = 0; k < n; ++k) ++count[bin(v[k])];
+  std::size_t b = 0, below = 0;
+  while (below + count[b] <= rank) below += count[b++];
+  chosen.clear();
+  for (std::size_t k = 0; k < n; ++k)
+    if (bin(v[k]) == b) chosen.push_back(v[k]);
+  return select(rank - below);
+}
 
 void load_fit_points(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& used,
                      FitPoints& out) {

@@ -56,4 +56,10 @@ SpreadSums spread_sums(const FitPoints& p, const Vec3& normal, double d, const V
 void grid_patches(const FitPoints& p, const Vec3& centre, const Vec3& axis1, const Vec3& axis2,
                   const double extent[4], int grid, std::int32_t* patch);
 
+// The value of rank `rank` (0-based) among v[0, n): what std::nth_element would put there, found by
+// counting the values into bins of their range and selecting only within the bin that holds the
+// rank (bins are monotone in the value, so the result is exact). A fit's residuals are all
+// finite; a NaN among them gives an unspecified value, as nth_element would. n > rank.
+double value_of_rank(const double* v, std::size_t n, std::size_t rank);
+
 }  // namespace iilfm::detail

@@ -162,12 +162,13 @@ void add_plane_uncertainty(const detail::FitPoints& fit, Plane& plane) {
 // stays exact: it decides whether the surround is coplanar, a share compared with a threshold.
 double median_of(const std::vector<double>& values) {
   constexpr std::size_t kExact = 16384, kSample = 4096;
+  if (values.size() <= kExact)
+    return detail::value_of_rank(values.data(), values.size(), values.size() / 2);
   thread_local std::vector<double> sample;
-  const std::size_t stride = values.size() > kExact ? values.size() / kSample : 1;
+  const std::size_t stride = values.size() / kSample;
   sample.clear();
   for (std::size_t k = 0; k < values.size(); k += stride) sample.push_back(values[k]);
-  std::nth_element(sample.begin(), sample.begin() + sample.size() / 2, sample.end());
-  return sample[sample.size() / 2];
+  return detail::value_of_rank(sample.data(), sample.size(), sample.size() / 2);
 }
 
 std::vector<cv::Point> rounded(const std::vector<Vec2>& polygon_px, cv::Point origin) {

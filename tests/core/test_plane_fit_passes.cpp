@@ -1,6 +1,7 @@
 // The vectorised passes of the robust plane fit against plain loops over the same points.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -97,6 +98,26 @@ TEST(PlaneFitPasses, GridPatchesClampOutsidersAndNaNToTheEdge) {
   EXPECT_EQ(patch[2], 0);
   EXPECT_EQ(patch[3], 3 * 4 + 0);
   EXPECT_EQ(patch[4], 0);  // a NaN coordinate makes both dot products NaN: the first patch
+}
+
+TEST(PlaneFitPasses, ValueOfRankIsWhatNthElementSelects) {
+  std::mt19937 rng(3);
+  std::exponential_distribution<double> residual(200.0);  // a residual-like long tail
+  for (const std::size_t n : {1u, 7u, 1024u, 1025u, 10000u, 16384u}) {
+    std::vector<double> v(n);
+    for (double& x : v) x = residual(rng);
+    // Ties: a quarter of the values repeat one value, and an outlier stretches the range.
+    for (std::size_t k = 0; k < n / 4; ++k) v[4 * k] = v[0];
+    if (n > 2) v[1] = 50.0;
+    for (const std::size_t rank : {std::size_t{0}, n / 2, n - 1}) {
+      std::vector<double> sorted = v;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(rank),
+                       sorted.end());
+      EXPECT_EQ(value_of_rank(v.data(), n, rank), sorted[rank]) << "n " << n << " rank " << rank;
+    }
+  }
+  const std::vector<double> same(5000, 0.25);  // no range to split
+  EXPECT_EQ(value_of_rank(same.data(), same.size(), 2500), 0.25);
 }
 
 }  // namespace
