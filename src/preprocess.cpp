@@ -169,9 +169,9 @@ IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid, doub
     const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
     std::uint8_t* __restrict g = gray.ptr<std::uint8_t>(r);
     for (int c = 0; c < cols; ++c) {
-      // Comparisons, not min/max: a NaN (an overflowed sum) becomes 0, never an undefined cast.
+      // max(0, level) takes 0 for a NaN (an overflowed sum): never an undefined cast.
       const float level = v[c] * factor + 0.5f;
-      const float clamped = level > 0.0f ? (level < 255.0f ? level : 255.0f) : 0.0f;
+      const float clamped = std::min(255.0f, std::max(0.0f, level));
       // Through int32: GCC converts float to unsigned bytes element by element.
       const auto value = static_cast<std::uint8_t>(static_cast<std::int32_t>(clamped));
       g[c] = static_cast<std::uint8_t>((value & m[c]) | (hole & ~m[c]));  // masks hold 0 or 255
