@@ -84,11 +84,11 @@ double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
         if (m[c]) values.push_back(v[c]);
     }
   };
+  // Denser grids while too few observed values were sampled (a sparse image).
   const double sparser = std::sqrt(static_cast<double>(intensity.total()) / 8 / kMaxSampled);
   if (sparser > 1)
     sample(static_cast<int>(std::ceil(2 * sparser)), static_cast<int>(std::ceil(4 * sparser)));
-  else
-    sample(2, 4);
+  if (values.size() < 1000) sample(2, 4);
   if (values.size() < 1000) sample(1, 1);  // sparse or small images: use every pixel
   if (values.empty()) return 1.0;
   const std::size_t k = (values.size() * 99) / 100;
