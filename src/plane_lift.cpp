@@ -253,7 +253,21 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     sin_az[k] = std::sin(azimuth);
   }
   thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
-  single.clear();
+  // Sized for every pixel of the box and written through plain pointers: a push_back per point
+  // reloaded the thread-local vectors' ends for each one.
+  std::size_t rows_in_box = 0;
+  for (int r = 0; r < g.height; ++r) {
+    const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
+    rows_in_box += v >= v0 && v <= v1 ? 1 : 0;
+  }
+  const std::size_t most = rows_in_box * column.size();
+  out.points.resize(most);
+  out.label.resize(most);
+  single.resize(most);
+  Vec3* points = out.points.data();
+  std::uint8_t* labelled = out.label.data();
+  std::pair<std::uint32_t, std::uint32_t>* singles = single.data();
+  std::size_t n = 0, n_single = 0;
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
     if (v < v0 || v > v1) continue;
@@ -269,16 +283,17 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
       const int c = column[k];
       if (!label || c < 0 || !seen[c]) continue;
       if (count[c] == 1) {
-        single.emplace_back(static_cast<std::uint32_t>(out.points.size()),
-                            static_cast<std::uint32_t>(index[c]));
-        out.points.emplace_back();
+        singles[n_single++] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index[c])};
       } else {
-        out.points.push_back(Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el) *
-                             static_cast<double>(range[c]));
+        points[n] =
+            Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el) * static_cast<double>(range[c]);
       }
-      out.label.push_back(label);
+      labelled[n++] = label;
     }
   }
+  out.points.resize(n);
+  out.label.resize(n);
+  single.resize(n_single);
   // The single-point pixels' points, read from the cloud in a second pass with prefetching: the
   // points of neighbouring pixels lie anywhere in the cloud (a rosette revisits a spot every few
   // frames), and waiting for each miss in turn cost more than the whole fit.

@@ -84,7 +84,9 @@ double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
         if (m[c]) values.push_back(v[c]);
     }
   };
-  // Denser grids while too few observed values were sampled (a sparse image).
+  // Denser grids while too few observed values were sampled (a sparse image). `values` is
+  // thread-local: cleared first, so no earlier image's values count.
+  values.clear();
   const double sparser = std::sqrt(static_cast<double>(intensity.total()) / 8 / kMaxSampled);
   if (sparser > 1)
     sample(static_cast<int>(std::ceil(2 * sparser)), static_cast<int>(std::ceil(4 * sparser)));

@@ -170,5 +170,24 @@ TEST(Preprocess, GrayModeKeepsLevels) {
   EXPECT_NEAR(out.detect.at<uchar>(3, 3), 10 * 255 / 120, 1);
 }
 
+// The gray scale is the 99th percentile of a sample of the image's own pixels, whatever came
+// before: a large bright image (sampled sparsely, 16k of its 1.2 million pixels), then the small
+// two-tone one (every pixel), then the large one again.
+TEST(Preprocess, IntensityScaleComesFromTheImageAlone) {
+  ProjectedImage large;
+  large.intensity = cv::Mat(1100, 1100, CV_32F, cv::Scalar(400));
+  large.mask = cv::Mat(1100, 1100, CV_8U, cv::Scalar(255));
+  large.range = cv::Mat(1100, 1100, CV_32F, cv::Scalar(2));
+  PreprocessOptions opt;
+  opt.threshold = 60;
+  PreprocessedImage out;
+  preprocess(large, opt, out);
+  EXPECT_NEAR(out.intensity_scale, 400, 1e-3);
+  preprocess(two_tone(), opt, out);
+  EXPECT_NEAR(out.intensity_scale, 120, 1e-3);
+  preprocess(large, opt, out);
+  EXPECT_NEAR(out.intensity_scale, 400, 1e-3);
+}
+
 }  // namespace
 }  // namespace iilfm
