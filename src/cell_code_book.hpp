@@ -28,6 +28,8 @@ class CellCodeBook {
   // Cell index (in the printed image) of the black square's first cell row and column.
   int border_start() const { return (total_width_ - border_width_) / 2; }
   int cell_role(int col, int row) const { return roles_[row * total_width_ + col]; }
+  // The same by row-major cell index (row * total_width + col).
+  int cell_role(int index) const { return roles_[index]; }
   int bits() const { return bits_; }
   int codes() const { return static_cast<int>(codes_[0].size()); }
   int min_distance() const { return min_distance_; }

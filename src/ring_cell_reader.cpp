@@ -82,12 +82,28 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   const int row_hi = std::min(g.height - 1, static_cast<int>(std::ceil(v_max)));
   const int col_lo = static_cast<int>(std::floor(u_min)),
             col_hi = static_cast<int>(std::ceil(u_max));
+  if (col_hi < col_lo) return;
+  // Pixel directions as ImageGeometry::ray computes them, from per-column and per-row tables.
+  std::vector<double> cos_az(static_cast<std::size_t>(col_hi - col_lo + 1)), sin_az(cos_az.size());
+  for (int col = col_lo; col <= col_hi; ++col) {
+    const double azimuth = g.azimuth_of_u(col);
+    cos_az[static_cast<std::size_t>(col - col_lo)] = std::cos(azimuth);
+    sin_az[static_cast<std::size_t>(col - col_lo)] = std::sin(azimuth);
+  }
+  const std::size_t most =
+      static_cast<std::size_t>(std::max(0, row_hi - row_lo + 1)) * cos_az.size();
+  a_.reserve(most);
+  b_.reserve(most);
+  intensity_.reserve(most);
   for (int row = row_lo; row <= row_hi; ++row) {
+    const double elevation = g.elevation_of_v(row);
+    const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
     for (int col = col_lo; col <= col_hi; ++col) {
       const int c = g.wrap_column(col);
       if (!g.contains_pixel(c, row) || !image.observed(c, row)) continue;
       // The pixel's own direction, at the unwrapped column so it lies beside the marker.
-      const Vec2 t = frame.of(g.ray(col, row));
+      const std::size_t k = static_cast<std::size_t>(col - col_lo);
+      const Vec2 t = frame.of(Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el));
       a_.push_back(t.x());
       b_.push_back(t.y());
       intensity_.push_back(intensity.at<float>(row, c));
@@ -168,7 +184,7 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
   for (std::size_t k = 0; k < a_.size(); ++k) {
     const std::int32_t i = scratch.cell[k];
     if (i < 0) continue;
-    const int role = book.cell_role(i % T, i / T);
+    const int role = book.cell_role(i);
     if (role >= 0) continue;
     scratch.sum[static_cast<std::size_t>(i)] += intensity_[k];
     ++scratch.count[static_cast<std::size_t>(i)];
