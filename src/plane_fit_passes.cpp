@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cpu_clones.hpp"
+#include "lane_range.hpp"
 
 namespace iilfm::detail {
 
@@ -74,11 +75,7 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
   const double ax = plane[7], ay = plane[8], az = plane[9];
   const double bx = plane[10], by = plane[11], bz = plane[12];
   double sq[kLanes] = {}, s1[kLanes] = {}, s2[kLanes] = {}, h1[kLanes] = {}, h2[kLanes] = {};
-  double lo1[kLanes], hi1[kLanes], lo2[kLanes], hi2[kLanes];
-  std::fill(lo1, lo1 + kLanes, 1e300);
-  std::fill(lo2, lo2 + kLanes, 1e300);
-  std::fill(hi1, hi1 + kLanes, -1e300);
-  std::fill(hi2, hi2 + kLanes, -1e300);
+  LaneRange<double, kLanes> along1(1e300, -1e300), along2(1e300, -1e300);
   const auto add = [&](std::size_t k, std::size_t j) {
     const double r = nx * x[k] + ny * y[k] + nz * z[k] - d;
     const double r2 = r * r;
@@ -89,10 +86,8 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
     s2[j] += x2 * x2;
     h1[j] += x1 * x1 * r2;
     h2[j] += x2 * x2 * r2;
-    lo1[j] = x1 < lo1[j] ? x1 : lo1[j];
-    hi1[j] = x1 > hi1[j] ? x1 : hi1[j];
-    lo2[j] = x2 < lo2[j] ? x2 : lo2[j];
-    hi2[j] = x2 > hi2[j] ? x2 : hi2[j];
+    along1.add(j, x1);
+    along2.add(j, x2);
   };
   const std::size_t whole = n - n % kLanes;
   for (std::size_t k = 0; k < whole; k += kLanes)
@@ -103,10 +98,10 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
   out.s2 = total(s2);
   out.h1 = total(h1);
   out.h2 = total(h2);
-  out.min1 = *std::min_element(lo1, lo1 + kLanes);
-  out.max1 = *std::max_element(hi1, hi1 + kLanes);
-  out.min2 = *std::min_element(lo2, lo2 + kLanes);
-  out.max2 = *std::max_element(hi2, hi2 + kLanes);
+  out.min1 = along1.min();
+  out.max1 = along1.max();
+  out.min2 = along2.min();
+  out.max2 = along2.max();
 }
 
 IILFM_AVX2_CLONES void patches_of(const double* __restrict x, const double* __restrict y,
@@ -130,21 +125,13 @@ IILFM_AVX2_CLONES void patches_of(const double* __restrict x, const double* __re
 
 IILFM_AVX2_CLONES void range_of(const double* __restrict v, std::size_t n, double& lo_out,
                                 double& hi_out) {
-  double lo[kLanes], hi[kLanes];
-  std::fill(lo, lo + kLanes, v[0]);
-  std::fill(hi, hi + kLanes, v[0]);
+  LaneRange<double, kLanes> range(v[0], v[0]);
   const std::size_t whole = n - n % kLanes;
   for (std::size_t k = 0; k < whole; k += kLanes)
-    for (std::size_t j = 0; j < kLanes; ++j) {
-      lo[j] = v[k + j] < lo[j] ? v[k + j] : lo[j];
-      hi[j] = v[k + j] > hi[j] ? v[k + j] : hi[j];
-    }
-  for (std::size_t k = whole; k < n; ++k) {
-    lo[0] = v[k] < lo[0] ? v[k] : lo[0];
-    hi[0] = v[k] > hi[0] ? v[k] : hi[0];
-  }
-  lo_out = *std::min_element(lo, lo + kLanes);
-  hi_out = *std::max_element(hi, hi + kLanes);
+    for (std::size_t j = 0; j < kLanes; ++j) range.add(j, v[k + j]);
+  for (std::size_t k = whole; k < n; ++k) range.add(0, v[k]);
+  lo_out = range.min();
+  hi_out = range.max();
 }
 
 }  // namespace

@@ -15,11 +15,14 @@ namespace iilfm {
 
 namespace {
 
-// Sums of a point set's coordinates and of their products, about a reference point near the
-// points (so the one-pass scatter keeps its precision).
-struct Moments {
+// Sums of a point set's coordinates and of their products (detail::CoordinateSums), about a
+// reference point near the points (so the one-pass scatter keeps its precision).
+struct Moments : detail::CoordinateSums {
   Vec3 ref = Vec3::Zero();
-  double n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+
+  Moments() = default;
+  Moments(const detail::CoordinateSums& sums, const Vec3& about)
+      : detail::CoordinateSums(sums), ref(about) {}
 
   void add(const Vec3& p) {
     const double a = p.x() - ref.x(), b = p.y() - ref.y(), c = p.z() - ref.z();
@@ -49,22 +52,6 @@ struct Moments {
     zz += sign * o.zz;
   }
 };
-
-Moments moments_of(const detail::CoordinateSums& s, const Vec3& ref) {
-  Moments m;
-  m.ref = ref;
-  m.n = s.n;
-  m.x = s.x;
-  m.y = s.y;
-  m.z = s.z;
-  m.xx = s.xx;
-  m.xy = s.xy;
-  m.xz = s.xz;
-  m.yy = s.yy;
-  m.yz = s.yz;
-  m.zz = s.zz;
-  return m;
-}
 
 // Least-squares plane through the points summed in `m` (smallest principal axis of their
 // scatter), without its uncertainty (add_plane_uncertainty): the robust fit's intermediate planes
@@ -317,7 +304,7 @@ Plane robust_plane(const std::vector<Vec3>& points, Indices& used, const PlaneFi
   thread_local detail::FitPoints current, kept;
   detail::load_fit_points(points, used, current);
   const Vec3 first = points[used.front()];
-  Plane plane = plane_from_moments(moments_of(detail::coordinate_sums(current, first), first));
+  Plane plane = plane_from_moments(Moments(detail::coordinate_sums(current, first), first));
   thread_local std::vector<double> residuals;
   double band = options.min_inlier_band_m;
   for (int it = 0; it < options.iterations && plane.ok; ++it) {
@@ -327,8 +314,8 @@ Plane robust_plane(const std::vector<Vec3>& points, Indices& used, const PlaneFi
     const std::size_t n_kept = detail::keep_within(current, residuals.data(), band, kept);
     if (n_kept < options.min_points || n_kept == current.size()) break;
     std::swap(current, kept);
-    plane = plane_from_moments(
-        moments_of(detail::coordinate_sums(current, plane.centre), plane.centre));
+    plane =
+        plane_from_moments(Moments(detail::coordinate_sums(current, plane.centre), plane.centre));
   }
   used.assign(current.index.begin(), current.index.end());
   add_plane_uncertainty(current, plane);

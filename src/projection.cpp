@@ -12,6 +12,7 @@
 #include "cpu_clones.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/ring_structure.hpp"
+#include "lane_range.hpp"
 #include "parallel_parts.hpp"
 #include "projection_passes.hpp"
 
@@ -118,35 +119,24 @@ void SphericalProjector::project(const PointCloud& cloud, ProjectedImage& out) {
 
 namespace {
 
-// Eight independent lanes of minima and maxima, combined at the end (the same result in any
-// order), and selects instead of a skip, so the loop vectorises.
+// The extent in eight lanes (detail::LaneRange), with selects instead of a skip, so the loop
+// vectorises.
 IILFM_AVX2_CLONES AngularBounds extent_of(const float* __restrict azimuth,
                                           const float* __restrict elevation,
                                           const float* __restrict range, std::size_t n) {
   constexpr std::size_t kLanes = 8;
-  float az_lo[kLanes], az_hi[kLanes], el_lo[kLanes], el_hi[kLanes];
-  std::fill(az_lo, az_lo + kLanes, 10.0f);
-  std::fill(el_lo, el_lo + kLanes, 10.0f);
-  std::fill(az_hi, az_hi + kLanes, -10.0f);
-  std::fill(el_hi, el_hi + kLanes, -10.0f);
+  detail::LaneRange<float, kLanes> az(10.0f, -10.0f), el(10.0f, -10.0f);
   const auto add = [&](std::size_t i, std::size_t j) {
     const bool measured = range[i] > 0;  // its angles are finite
-    const float az = azimuth[i], el = elevation[i];
-    az_lo[j] = measured && az < az_lo[j] ? az : az_lo[j];
-    az_hi[j] = measured && az > az_hi[j] ? az : az_hi[j];
-    el_lo[j] = measured && el < el_lo[j] ? el : el_lo[j];
-    el_hi[j] = measured && el > el_hi[j] ? el : el_hi[j];
+    az.add(j, azimuth[i], measured);
+    el.add(j, elevation[i], measured);
   };
   const std::size_t whole = n - n % kLanes;
   for (std::size_t i = 0; i < whole; i += kLanes)
     for (std::size_t j = 0; j < kLanes; ++j) add(i + j, j);
   for (std::size_t i = whole; i < n; ++i) add(i, 0);
-  const float az_min = *std::min_element(az_lo, az_lo + kLanes);
-  const float az_max = *std::max_element(az_hi, az_hi + kLanes);
-  const float el_min = *std::min_element(el_lo, el_lo + kLanes);
-  const float el_max = *std::max_element(el_hi, el_hi + kLanes);
-  if (az_min > az_max) return AngularBounds{};
-  return AngularBounds{az_min, az_max, el_min, el_max};
+  if (az.min() > az.max()) return AngularBounds{};
+  return AngularBounds{az.min(), az.max(), el.min(), el.max()};
 }
 
 // Threads take at least this many points or pixels each (detail::parts_for).
