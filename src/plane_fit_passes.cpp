@@ -22,33 +22,22 @@ IILFM_AVX2_CLONES void sums_of(const double* __restrict x, const double* __restr
                                double rz, CoordinateSums& out) {
   double sx[kLanes] = {}, sy[kLanes] = {}, sz[kLanes] = {}, sxx[kLanes] = {}, sxy[kLanes] = {},
          sxz[kLanes] = {}, syy[kLanes] = {}, syz[kLanes] = {}, szz[kLanes] = {};
-  const std::size_t whole = n - n % kLanes;
-  for (std::size_t k = 0; k < whole; k += kLanes) {
-    for (std::size_t j = 0; j < kLanes; ++j) {
-      const double a = x[k + j] - rx, b = y[k + j] - ry, c = z[k + j] - rz;
-      sx[j] += a;
-      sy[j] += b;
-      sz[j] += c;
-      sxx[j] += a * a;
-      sxy[j] += a * b;
-      sxz[j] += a * c;
-      syy[j] += b * b;
-      syz[j] += b * c;
-      szz[j] += c * c;
-    }
-  }
-  for (std::size_t k = whole; k < n; ++k) {
+  const auto add = [&](std::size_t k, std::size_t j) {
     const double a = x[k] - rx, b = y[k] - ry, c = z[k] - rz;
-    sx[0] += a;
-    sy[0] += b;
-    sz[0] += c;
-    sxx[0] += a * a;
-    sxy[0] += a * b;
-    sxz[0] += a * c;
-    syy[0] += b * b;
-    syz[0] += b * c;
-    szz[0] += c * c;
-  }
+    sx[j] += a;
+    sy[j] += b;
+    sz[j] += c;
+    sxx[j] += a * a;
+    sxy[j] += a * b;
+    sxz[j] += a * c;
+    syy[j] += b * b;
+    syz[j] += b * c;
+    szz[j] += c * c;
+  };
+  const std::size_t whole = n - n % kLanes;
+  for (std::size_t k = 0; k < whole; k += kLanes)
+    for (std::size_t j = 0; j < kLanes; ++j) add(k + j, j);
+  for (std::size_t k = whole; k < n; ++k) add(k, 0);
   out.n = static_cast<double>(n);
   out.x = total(sx);
   out.y = total(sy);
