@@ -159,6 +159,85 @@ PointView slice(const PointView& view, std::size_t begin, std::size_t end) {
   return out;
 }
 
+// `a` where `mask` is all ones, `b` where it is zero: a select the compiler cannot turn into a
+// branch (bin_points' choices are as good as random, so a branch would be mispredicted often).
+std::uint32_t masked_choice(std::uint32_t a, std::uint32_t b, std::uint32_t mask) {
+  return b ^ ((a ^ b) & mask);
+}
+float masked_choice(float a, float b, std::uint32_t mask) {
+  std::uint32_t a_bits, b_bits;
+  std::memcpy(&a_bits, &a, sizeof a);
+  std::memcpy(&b_bits, &b, sizeof b);
+  const std::uint32_t bits = masked_choice(a_bits, b_bits, mask);
+  float out;
+  std::memcpy(&out, &bits, sizeof out);
+  return out;
+}
+
+// Pass 3's input: each point's pixel (-1 outside the image), range, squared offset from the pixel
+// centre and intensity.
+struct PointsToBin {
+  const std::int32_t* pixel;
+  const float* range;
+  const float* offset;
+  StridedColumn<float> intensity;
+  std::size_t n;
+};
+
+// Pass 3: bins the points whose pixel lies in [first, last) (paper Eq. 2, non-mirrored) and
+// returns how many it binned. The Livox rosette visits pixels in scattered order, so the pixel of
+// the point some iterations ahead is prefetched and the misses overlap. Which point lies nearest
+// its pixel centre is as good as random, so that choice is made with masks (masked_choice): as a
+// branch it was mispredicted so often that it took a third of this pass (Mid-40, 60 frames).
+template <bool kNearest, typename Accumulator>
+std::size_t bin_points(const PointsToBin& points, std::size_t first, std::size_t last,
+                       Accumulator* __restrict pixels) {
+  const std::int32_t* __restrict pixel = points.pixel;
+  const float* __restrict range = points.range;
+  const float* __restrict offset = points.offset;
+  const float* __restrict intensity = points.intensity.data;
+  const std::ptrdiff_t stride = points.intensity.stride;
+  const std::size_t n = points.n;
+  const auto lo = static_cast<std::int32_t>(first);
+  const auto span = static_cast<std::uint32_t>(last - first);  // unsigned: -1 falls outside too
+  const auto in_part = [&](std::int32_t p) { return static_cast<std::uint32_t>(p - lo) < span; };
+  constexpr std::size_t kAhead = 32;
+  constexpr std::uint32_t kCountMask = Accumulator::kCountMask;
+  std::size_t projected = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n) {
+      const std::int32_t ahead = pixel[i + kAhead];
+      __builtin_prefetch(pixels + (in_part(ahead) ? ahead : lo), 1);
+    }
+    const std::int32_t p = pixel[i];
+    if (!in_part(p)) continue;
+    Accumulator& px = pixels[p];
+    const std::uint32_t word = px.count_offset;
+    const std::uint32_t count = word & kCountMask;
+    if (count == kCountMask) continue;  // a full pixel keeps a true mean
+    const float r = range[i], value = intensity[static_cast<std::ptrdiff_t>(i) * stride];
+    if constexpr (kNearest) {
+      const std::uint32_t nearer =
+          0u - static_cast<std::uint32_t>((count == 0) | (r < px.range_sum));
+      px.range_sum = masked_choice(r, px.range_sum, nearer);
+      px.intensity_sum = masked_choice(value, px.intensity_sum, nearer);
+    } else {
+      px.range_sum += r;
+      px.intensity_sum += value;
+    }
+    // Squared offsets lie in [0, 0.5] pixel^2; 8 bits resolve them to 0.002. An empty pixel's
+    // best is 256, above every offset.
+    const std::uint32_t off = std::min(static_cast<std::uint32_t>(offset[i] * 510.0f), 255u);
+    const std::uint32_t best = count == 0 ? 256u : word >> 24;
+    const std::uint32_t closer = 0u - static_cast<std::uint32_t>(off < best);  // a mask
+    px.index = static_cast<std::int32_t>(
+        masked_choice(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(px.index), closer));
+    px.count_offset = (masked_choice(off, best, closer) << 24) | (count + 1);
+    ++projected;
+  }
+  return projected;
+}
+
 // Written so that GCC 12 vectorises it (it was scalar before: 5 ms of a 600k-point Mid-40
 // projection): restrict pointers, a loop-invariant policy, unsigned comparisons of the count and
 // a signed conversion to float (a signed comparison alone kept it scalar).
@@ -294,9 +373,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     }
   }
 
-  // Pass 3: bin every point (paper Eq. 2 with the non-mirrored orientation). The Livox rosette
-  // visits pixels in scattered order, so each point's pixel is a cache miss: prefetch the pixel of
-  // a point some iterations ahead so the misses overlap.
+  // Pass 3 (bin_points).
   const std::size_t total = static_cast<std::size_t>(g.width) * g.height;
   // Pass 4 clears every accumulator it reads, which saves a separate pass over them; only a frame
   // that stopped between the passes (an exception) leaves them to be cleared here.
@@ -305,9 +382,6 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   pixels_.resize(total);
   pixels_clear_ = false;
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
-  const StridedColumn<float> intensities = cloud.intensity;
-  constexpr std::size_t kAhead = 32;
-  constexpr std::uint32_t kMaxCount = PixelAccumulator::kCountMask;
   // With threads, each takes a range of pixels and reads every point, binning those that fall in
   // its range: a pixel's points are still added in the cloud's order, by one thread.
   const int pixel_parts =
@@ -315,39 +389,9 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   std::size_t projected_in[kMaxParts] = {};
   in_parts(pixel_parts, [&](int k, int parts) {
     const auto [first, last] = part_range(total, k, parts);
-    const auto lo = static_cast<std::int32_t>(first), hi = static_cast<std::int32_t>(last);
-    PixelAccumulator* __restrict pixels = pixels_.data();
-    std::size_t projected = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (i + kAhead < n) {
-        const std::int32_t ahead = pixel_[i + kAhead];
-        __builtin_prefetch(pixels + (ahead >= lo && ahead < hi ? ahead : lo), 1);
-      }
-      const std::int32_t p = pixel_[i];
-      if (p < lo || p >= hi) continue;  // also every point outside the image (-1)
-      PixelAccumulator& px = pixels[static_cast<std::size_t>(p)];
-      const std::uint32_t count = px.count();
-      if (count == kMaxCount) continue;  // a full pixel keeps a true mean
-      const float r = range_[i], intensity = intensities[i];
-      if (!nearest) {
-        px.range_sum += r;
-        px.intensity_sum += intensity;
-      } else if (count == 0 || r < px.range_sum) {
-        px.range_sum = r;
-        px.intensity_sum = intensity;
-      }
-      // Squared offsets lie in [0, 0.5] pixel^2; 8 bits resolve them to 0.002.
-      std::uint32_t offset = static_cast<std::uint32_t>(offset_[i] * 510.0f);
-      offset = offset > 255 ? 255 : offset;
-      std::uint32_t best = px.best_offset();
-      if (count == 0 || offset < best) {
-        best = offset;
-        px.index = static_cast<std::int32_t>(i);
-      }
-      px.count_offset = (best << 24) | (count + 1);
-      ++projected;
-    }
-    projected_in[k] = projected;
+    const PointsToBin points{pixel_.data(), range_.data(), offset_.data(), cloud.intensity, n};
+    projected_in[k] = nearest ? bin_points<true>(points, first, last, pixels_.data())
+                              : bin_points<false>(points, first, last, pixels_.data());
   });
   std::size_t projected = 0;
   for (int k = 0; k < pixel_parts; ++k) projected += projected_in[k];
