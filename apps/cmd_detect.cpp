@@ -48,6 +48,7 @@ struct DetectArgs {
   bool no_square_pixels = false;
   bool no_edge_refine = false;
   bool no_search_regions = false;
+  bool no_gray_decode = false;
   bool no_ring_decode = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   double blur = 0;
@@ -140,6 +141,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.refine_edges = !args.no_refine_edges;
   options.detector.apriltag.search_regions = !args.no_search_regions;
   options.detector.aruco.search_regions = !args.no_search_regions;
+  options.detector.apriltag.decode_gray = !args.no_gray_decode;
   options.detector.apriltag.threads = args.threads;
   options.projection.threads = args.threads;
   options.lift_threads = args.threads;
@@ -379,6 +381,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-search-regions", args->no_search_regions,
                 "AprilTag and ArUco: search every pixel, not only the boxes around quad-shaped "
                 "black-white boundaries of the binary image (same markers, slower)");
+  cmd->add_flag("--no-gray-decode", args->no_gray_decode,
+                "AprilTag: segment and decode the binary image itself, not the gray pixels inside "
+                "its search regions");
   cmd->add_option(
          "--threads", args->threads,
          "threads for AprilTag, for projecting large clouds and for lifting several markers")

@@ -25,6 +25,7 @@ struct EvalArgs {
   bool markdown = false, footprint = false, quiet = false;
   bool no_edge_refine = false, weight_corners = false, no_ring_decode = false;
   bool no_search_regions = false;
+  bool no_gray_decode = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   double dark_dropout = 0, invalid_fraction = 0;
   bool no_jitter = false;
@@ -79,6 +80,7 @@ int run_eval(const EvalArgs& a) {
     range.ring_decode = !a.no_ring_decode;
     range.ring_candidates = a.ring_candidates;
     range.search_regions = !a.no_search_regions;
+    range.gray_decode = !a.no_gray_decode;
     range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
     return run_range_study(range);
   }
@@ -97,6 +99,7 @@ int run_eval(const EvalArgs& a) {
   options.tweaks.ring_decode = !a.no_ring_decode;
   options.tweaks.ring_candidates = a.ring_candidates;
   options.tweaks.search_regions = !a.no_search_regions;
+  options.tweaks.gray_decode = !a.no_gray_decode;
   options.tweaks.weight_corners = a.weight_corners;
   options.tweaks.pose_refine = pose_refine_named(a.pose_refine);
   options.dark_dropout = a.dark_dropout;
@@ -176,6 +179,8 @@ Runner register_eval_command(CLI::App& app) {
                 "PipelineOptions::ring_candidates)");
   sub->add_flag("--no-search-regions", a.no_search_regions,
                 "AprilTag and ArUco search every pixel, not only around quad-shaped boundaries");
+  sub->add_flag("--no-gray-decode", a.no_gray_decode,
+                "AprilTag decodes the binary image, not the gray one (iilfm settings)");
   sub->add_flag("--weight-corners", a.weight_corners,
                 "Weigh corners by their variance in the LiDAR pose fit");
   sub->add_option("--pose-refine", a.pose_refine,

@@ -69,8 +69,9 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
   result.times_ms.preprocess =
       std::chrono::duration<double, std::milli>(detected - detect_start).count();
   std::vector<Detection> detections;
+  const DetectorImages images = detector_images(result.preprocessed, preprocess_options);
   for (const std::string& family : options.families)
-    make_detector(family, options.detector)->detect(result.preprocessed.detect, detections);
+    make_detector(family, options.detector)->detect_images(images, detections);
   drop_duplicate_detections(detections);  // one report per physical marker
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);

@@ -15,6 +15,7 @@ struct RangeStudyArgs {
   bool ring_decode = true;
   bool ring_candidates = true;
   bool search_regions = true;
+  bool gray_decode = true;
 };
 
 // Prints the Markdown table on stdout and per-distance counts on stderr.

@@ -63,9 +63,10 @@ void BM_Detect(benchmark::State& state, const std::string& name) {
   for (const std::string& family : scan(name).options.families)
     detectors.push_back(make_detector(family, options));
   std::vector<Detection> found;
+  const DetectorImages images = detector_images(pre, scan(name).options.preprocess);
   for (auto _ : state) {
     found.clear();
-    for (auto& d : detectors) d->detect(pre.detect, found);
+    for (auto& d : detectors) d->detect_images(images, found);
   }
   state.counters["markers"] = static_cast<double>(found.size());
 }

@@ -318,8 +318,9 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   r.times_ms.preprocess = watch.lap_ms();
 
   std::vector<Detection> detections;
-  for (auto& detector : detectors_) detector->detect(r.preprocessed.detect, detections);
-  detect_across_seam(r.preprocessed.detect, r.preprocessed.geometry, detectors_, detections);
+  const DetectorImages images = detector_images(r.preprocessed, options_.preprocess);
+  for (auto& detector : detectors_) detector->detect_images(images, detections);
+  detect_across_seam(images, r.preprocessed.geometry, detectors_, detections);
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);

@@ -379,4 +379,13 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   }
 }
 
+DetectorImages detector_images(const PreprocessedImage& image, const PreprocessOptions& options) {
+  DetectorImages images{image.detect, cv::Mat(), cv::Mat()};
+  if (options.binarize) {
+    images.gray = image.gray;
+    images.valid = image.valid;
+  }
+  return images;
+}
+
 }  // namespace iilfm

@@ -5,9 +5,10 @@
 
 namespace iilfm {
 
-void detect_across_seam(const cv::Mat& image, const ImageGeometry& geometry,
+void detect_across_seam(const DetectorImages& images, const ImageGeometry& geometry,
                         const std::vector<std::unique_ptr<MarkerDetector>>& detectors,
                         std::vector<Detection>& out) {
+  const cv::Mat& image = images.image;
   if (!geometry.full_circle() || image.cols != geometry.width || image.cols < 16) return;
   const int width = image.cols;
   const double turn = geometry.columns_per_turn();
@@ -15,8 +16,18 @@ void detect_across_seam(const cv::Mat& image, const ImageGeometry& geometry,
   // degrees both present) or, for a turn of a fractional number of columns, overlap by a part.
   const int start = std::clamp(static_cast<int>(std::lround(width - turn)), 0, width / 4);
   const int half = std::max(8, width / 8);
-  thread_local cv::Mat strip;
-  cv::hconcat(image.colRange(width - half, width), image.colRange(start, start + half), strip);
+  // Each image's strip (empty for an empty one).
+  thread_local DetectorImages strip;
+  const auto strip_of = [&](const cv::Mat& from, cv::Mat& to) {
+    if (from.empty()) {
+      to.release();
+    } else {
+      cv::hconcat(from.colRange(width - half, width), from.colRange(start, start + half), to);
+    }
+  };
+  strip_of(image, strip.image);
+  strip_of(images.gray.size() == image.size() ? images.gray : cv::Mat(), strip.gray);
+  strip_of(images.valid.size() == image.size() ? images.valid : cv::Mat(), strip.valid);
 
   // Strip coordinate x to the image's continuous column: the left half is the image's end, the
   // right half its start one turn on (column c points where column c + turn does).
@@ -24,7 +35,7 @@ void detect_across_seam(const cv::Mat& image, const ImageGeometry& geometry,
     return x < half - 0.5 ? width - half + x : x - half + start + turn;
   };
   std::vector<Detection> found;
-  for (const auto& detector : detectors) detector->detect(strip, found);
+  for (const auto& detector : detectors) detector->detect_images(strip, found);
   for (Detection& d : found) {
     // Keypoints and outline (a ring marker has one keypoint, its centre, and an outline).
     std::vector<Vec2*> points;

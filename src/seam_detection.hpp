@@ -11,12 +11,12 @@
 
 namespace iilfm {
 
-// Runs the detectors on a strip made of the image's last and first columns side by side (an
+// Runs the detectors on a strip made of the images' last and first columns side by side (an
 // eighth of a turn from each side) and appends the markers that straddle the seam, their
 // keypoints in `geometry`'s continuous coordinates: past the last column where the marker
 // continues (u >= width), so the quad stays whole. Markers wholly on one side are left to the
 // detection on the image itself. Does nothing unless `geometry` covers a full turn.
-void detect_across_seam(const cv::Mat& image, const ImageGeometry& geometry,
+void detect_across_seam(const DetectorImages& images, const ImageGeometry& geometry,
                         const std::vector<std::unique_ptr<MarkerDetector>>& detectors,
                         std::vector<Detection>& out);
 

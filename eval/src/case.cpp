@@ -135,6 +135,7 @@ CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks
   options.ring_candidates = tweaks.ring_candidates;
   options.detector.apriltag.search_regions = tweaks.search_regions;
   options.detector.aruco.search_regions = tweaks.search_regions;
+  options.detector.apriltag.decode_gray = tweaks.gray_decode;
   Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }

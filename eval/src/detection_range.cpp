@@ -20,6 +20,7 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
     options.preprocess.hole_class_block = 0;
     options.preprocess.square_pixels = false;
     options.min_samples_per_cell = 0;
+    options.detector.apriltag.decode_gray = false;  // the paper's AprilTag reads the binary image
   }
   return options;
 }
@@ -56,6 +57,7 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
         if (settings[k] == RangeSettings::kIilfm) {
           options.ring_decode = query.ring_decode;
           options.ring_candidates = query.ring_candidates;
+          options.detector.apriltag.decode_gray = query.gray_decode;
         }
         options.detector.apriltag.search_regions = query.search_regions;
         options.detector.aruco.search_regions = query.search_regions;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "iilfm/detector.hpp"
 #include "iilfm/intensity_normalisation.hpp"
 #include "iilfm/projection.hpp"
 
@@ -70,5 +71,9 @@ struct PreprocessedImage {
 // Fills `out`, reusing its buffers.
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                 PreprocessedImage& out);
+
+// What the detectors are given (headers onto `image`'s buffers, no copy): the detection image,
+// and with a binarised one the gray image and its valid mask.
+DetectorImages detector_images(const PreprocessedImage& image, const PreprocessOptions& options);
 
 }  // namespace iilfm

@@ -37,6 +37,7 @@ struct Options {
   bool ring_decode = PipelineOptions{}.ring_decode;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   bool search_regions = AprilTagOptions{}.search_regions;
+  bool gray_decode = AprilTagOptions{}.decode_gray;
   float decimate = 1, quad_sigma = 0;
   int threads = 1, max_hamming = -1;
   int aruco_window_min = ArucoOptions{}.window_min, aruco_window_max = ArucoOptions{}.window_max,
@@ -92,6 +93,7 @@ PipelineOptions pipeline_options(const Options& a) {
   options.detector.apriltag.refine_edges = a.refine_edges;
   options.detector.apriltag.search_regions = a.search_regions;
   options.detector.aruco.search_regions = a.search_regions;
+  options.detector.apriltag.decode_gray = a.gray_decode;
   options.detector.apriltag.threads = a.threads;
   options.projection.threads = a.threads;
   options.lift_threads = a.threads;
@@ -479,7 +481,7 @@ void register_pipeline(py::module_& m) {
                        int max_hamming, std::string aruco_refine, int aruco_window_min,
                        int aruco_window_max, int aruco_window_step, std::string pose_refine,
                        std::string normalise_intensity, bool ring_decode, bool ring_candidates,
-                       bool search_regions) {
+                       bool search_regions, bool gray_decode) {
              Options o;
              o.sensor = std::move(sensor);
              o.markers = std::move(markers);
@@ -506,6 +508,7 @@ void register_pipeline(py::module_& m) {
              o.ring_decode = ring_decode;
              o.ring_candidates = ring_candidates;
              o.search_regions = search_regions;
+             o.gray_decode = gray_decode;
              return std::make_unique<PyPipeline>(o);
            }),
            py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
@@ -523,6 +526,7 @@ void register_pipeline(py::module_& m) {
            py::arg("ring_decode") = PipelineOptions{}.ring_decode,
            py::arg("ring_candidates") = PipelineOptions{}.ring_candidates,
            py::arg("search_regions") = AprilTagOptions{}.search_regions,
+           py::arg("gray_decode") = AprilTagOptions{}.decode_gray,
            "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
            "neither, the resolution is estimated from the first cloud detected (as `iilfm "
            "detect` does without --sensor) and kept for later frames (see resolution).\n"
@@ -533,7 +537,7 @@ void register_pipeline(py::module_& m) {
            "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
            "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "
            "--no-ring-decode; ring_candidates=False is --no-ring-candidates; search_regions=False "
-           "is --no-search-regions).\n"
+           "is --no-search-regions; gray_decode=False is --no-gray-decode).\n"
            "Raises InputError with the program's message for bad options, presets or maps.")
       .def("detect", &PyPipeline::detect, py::arg("points"),
            "Runs every stage on one frame. points: an (N, >=4) array of x, y, z, intensity[, ...] "

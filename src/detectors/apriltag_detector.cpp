@@ -46,6 +46,7 @@ class AprilTagDetector final : public MarkerDetector {
     // Regions keep libapriltag's own thresholds only without decimation or blur, which change
     // the tiles' footprint (docs/detectors.md).
     use_regions_ = options.search_regions && options.decimate <= 1 && options.sigma == 0;
+    decode_gray_ = options.decode_gray;
     rules_.reach = decode_reach(*family_);
     rules_.min_side_px = std::max(3, family_->width_at_border - 1);
   }
@@ -63,6 +64,37 @@ class AprilTagDetector final : public MarkerDetector {
     detect_in_search_regions(
         gray, use_regions_, rules_, crop_,
         [&](const cv::Mat& part, cv::Point origin) { detect_in(part, origin, out); });
+  }
+
+  void detect_images(const DetectorImages& images, std::vector<Detection>& out) override {
+    const cv::Mat& binary = images.image;
+    CV_Assert(binary.type() == CV_8UC1);
+    const bool gray_given = !images.gray.empty() && images.gray.size() == binary.size() &&
+                            images.valid.size() == binary.size();
+    if (!decode_gray_ || !use_regions_ || !gray_given || !is_binary(binary)) {
+      detect(binary, out);
+      return;
+    }
+    for (const cv::Rect& box : search_regions(binary, rules_)) {
+      if (box.size() == binary.size()) {
+        // A cluttered image, searched whole: binary only. libapriltag's own threshold on the
+        // gray pixels of a busy real scan decoded texture into a code (a tag16h5 sliver on a
+        // Pandar64 scan) where the binary image gives none.
+        detect(binary, out);
+        continue;
+      }
+      const std::size_t before = out.size();
+      binary(box).copyTo(crop_);
+      detect_in(crop_, box.tl(), out);
+      if (out.size() > before) continue;
+      // Nothing decoded from the binary pixels: the gray ones, those without a value keeping
+      // their binary class (a hole in a white wall stays white, not the gray image's black).
+      // Binary first, because gray alone lost sharp markers 1.7 pixels a cell wide that the
+      // binary image decodes (ULTRA Puck, tag grid at 3.5 m).
+      images.gray(box).copyTo(crop_);
+      binary(box).copyTo(crop_, images.valid(box) == 0);
+      detect_in(crop_, box.tl(), out);
+    }
   }
 
  private:
@@ -98,6 +130,7 @@ class AprilTagDetector final : public MarkerDetector {
   apriltag_family_t* family_ = nullptr;
   apriltag_detector_t* detector_ = nullptr;
   bool use_regions_ = false;
+  bool decode_gray_ = true;
   SearchRegionRules rules_;
   cv::Mat crop_;  // a search region's pixels, reused from call to call
 };

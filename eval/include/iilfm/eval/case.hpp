@@ -80,6 +80,7 @@ struct PipelineTweaks {
   bool ring_decode = PipelineOptions{}.ring_decode;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   bool search_regions = AprilTagOptions{}.search_regions;
+  bool gray_decode = AprilTagOptions{}.decode_gray;
 };
 
 // Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.

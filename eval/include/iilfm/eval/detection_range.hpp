@@ -30,6 +30,7 @@ struct RangeQuery {
   bool ring_decode = true;  // iilfm settings: PipelineOptions::ring_decode
   bool ring_candidates = PipelineOptions{}.ring_candidates;  // and ring_candidates
   bool search_regions = AprilTagOptions{}.search_regions;    // both settings
+  bool gray_decode = AprilTagOptions{}.decode_gray;          // iilfm settings
   std::vector<double> distances = {1,  1.5, 2,  2.5, 3,  3.5, 4,  5,  6,  7,  8, 9,
                                    10, 12,  14, 16,  18, 20,  23, 26, 30, 35, 40};
 };
