@@ -201,6 +201,18 @@ def test_search_regions_find_the_markers_of_the_whole_image():
         assert np.abs(np.asarray(near[0].corners_px) - np.asarray(whole[0].corners_px)).max() < 0.15
 
 
+def test_gray_decode_reads_a_small_far_ouster_marker():
+    """A 40 cm tag36h11 5 m from an OS1-128 has cells 1.6 pixels wide: the binary image loses its
+    code, AprilTag on the search region's gray pixels reads it (docs/detectors.md, "Gray pixels
+    where the binary ones decode nothing"); gray_decode=False is the binary image alone."""
+    cloud, _ = iilfm.simulate(sensor="os1-128", marker_size=0.4, distance=5.0, seed=2,
+                              footprint=True, lidar_rpy=[0, 0.912, 1.791])
+    def ids(**options):
+        return [m.id for m in iilfm.Pipeline("os1-128", **options).detect(cloud).markers]
+    assert ids() == [0]
+    assert ids(gray_decode=False) == []
+
+
 def test_a_ring_marker_alone_has_a_pose_whose_turn_is_a_convention():
     """A ring marker's code is the same at every turn: its centre and the fitted plane give its
     pose, y taken as the LiDAR's up seen in the face (docs/detectors.md)."""
