@@ -87,6 +87,11 @@ class AprilTagDetector final : public MarkerDetector {
       binary(box).copyTo(crop_);
       detect_in(crop_, box.tl(), out);
       if (out.size() > before) continue;
+      // Not where under a fifth of the pixels hold a value (a single rosette frame, 5-10 %): the
+      // gray crop is then mostly its holes' binary classes, and trying it took `mid40-1`
+      // detection from 0.8 to 1.6 ms. (An Avia's 1 m tag at 35 m, which the gray pixels decode,
+      // has values in 26-32 % of its region.)
+      if (cv::countNonZero(images.valid(box)) * 5 < box.area()) continue;
       // Nothing decoded from the binary pixels: the gray ones, those without a value keeping
       // their binary class (a hole in a white wall stays white, not the gray image's black).
       // Binary first, because gray alone lost sharp markers 1.7 pixels a cell wide that the
