@@ -51,11 +51,12 @@ struct AprilTagOptions {
   // boundaries (src/detectors/search_regions.hpp; docs/detectors.md) instead of on every pixel.
   // Needs decimate 1 and sigma 0; the whole image is searched otherwise.
   bool search_regions = true;
-  // Given the binary image and the gray one it was thresholded from (DetectorImages), find the
-  // search regions on the binary image but let libapriltag segment and decode the gray pixels
-  // (unobserved ones keep their binary class). Its own local threshold reads cells 1.5-2 pixels
-  // wide that one global threshold breaks up: OS1-128, 40 cm tag36h11 at 5 m, 20 of 20 scans
-  // against 11 (docs/detectors.md, "Binarised or gray input").
+  // Given the binary image and the gray one it was thresholded from (DetectorImages): where a
+  // search region's binary pixels decode nothing, run libapriltag again on its gray pixels
+  // (those without a value keep their binary class; regions where under a fifth hold a value are
+  // skipped). Its own local threshold reads cells 1.5-2 pixels wide that one global threshold
+  // breaks up: OS1-128, 40 cm tag36h11 at 5 m, 19 of 20 scans against 11 (docs/detectors.md,
+  // "Gray pixels where the binary ones decode nothing").
   bool decode_gray = true;
 };
 
