@@ -71,35 +71,34 @@ class AprilTagDetector final : public MarkerDetector {
     CV_Assert(binary.type() == CV_8UC1);
     const bool gray_given = !images.gray.empty() && images.gray.size() == binary.size() &&
                             images.valid.size() == binary.size();
-    if (!decode_gray_ || !use_regions_ || !gray_given || !is_binary(binary)) {
+    if (!decode_gray_ || !gray_given) {
       detect(binary, out);
       return;
     }
-    for (const cv::Rect& box : search_regions(binary, rules_)) {
-      if (box.size() == binary.size()) {
-        // A cluttered image, searched whole: binary only. libapriltag's own threshold on the
-        // gray pixels of a busy real scan decoded texture into a code (a tag16h5 sliver on a
-        // Pandar64 scan) where the binary image gives none.
-        detect(binary, out);
-        continue;
-      }
-      const std::size_t before = out.size();
-      binary(box).copyTo(crop_);
-      detect_in(crop_, box.tl(), out);
-      if (out.size() > before) continue;
-      // Not where under a fifth of the pixels hold a value (a single rosette frame, 5-10 %): the
-      // gray crop is then mostly its holes' binary classes, and trying it took `mid40-1`
-      // detection from 0.8 to 1.6 ms. (An Avia's 1 m tag at 35 m, which the gray pixels decode,
-      // has values in 26-32 % of its region.)
-      if (cv::countNonZero(images.valid(box)) * 5 < box.area()) continue;
-      // Nothing decoded from the binary pixels: the gray ones, those without a value keeping
-      // their binary class (a hole in a white wall stays white, not the gray image's black).
-      // Binary first, because gray alone lost sharp markers 1.7 pixels a cell wide that the
-      // binary image decodes (ULTRA Puck, tag grid at 3.5 m).
-      images.gray(box).copyTo(crop_);
-      binary(box).copyTo(crop_, images.valid(box) == 0);
-      detect_in(crop_, box.tl(), out);
-    }
+    detect_in_search_regions(binary, use_regions_, rules_, crop_,
+                             [&](const cv::Mat& part, cv::Point origin) {
+                               const std::size_t before = out.size();
+                               detect_in(part, origin, out);
+                               const cv::Rect box(origin, part.size());
+                               // Binary first, because gray alone lost sharp markers 1.7 pixels a
+                               // cell wide that the binary image decodes (ULTRA Puck, tag grid
+                               // at 3.5 m). An image searched whole is a cluttered one (or not
+                               // binary): there libapriltag's own threshold on the gray pixels of a
+                               // busy real scan decoded texture into a code (a tag16h5 sliver on a
+                               // Pandar64 scan) where the binary image gives none.
+                               if (out.size() > before || box.size() == binary.size()) return;
+                               // Not where under a fifth of the pixels hold a value (a single
+                               // rosette frame, 5-10 %): the gray crop is then mostly its holes'
+                               // binary classes, and trying it took `mid40-1` detection from 0.8
+                               // to 1.6 ms. (An Avia's 1 m tag at 35 m, which the gray pixels
+                               // decode, has values in 26-32 % of its region.)
+                               if (cv::countNonZero(images.valid(box)) * 5 < box.area()) return;
+                               // The gray pixels, those without a value keeping their binary class
+                               // (a hole in a white wall stays white, not the gray image's black).
+                               images.gray(box).copyTo(gray_crop_);
+                               binary(box).copyTo(gray_crop_, images.valid(box) == 0);
+                               detect_in(gray_crop_, origin, out);
+                             });
   }
 
  private:
@@ -137,7 +136,8 @@ class AprilTagDetector final : public MarkerDetector {
   bool use_regions_ = false;
   bool decode_gray_ = true;
   SearchRegionRules rules_;
-  cv::Mat crop_;  // a search region's pixels, reused from call to call
+  cv::Mat crop_;       // a search region's pixels, reused from call to call
+  cv::Mat gray_crop_;  // its gray pixels, when the binary ones decoded nothing
 };
 
 }  // namespace
