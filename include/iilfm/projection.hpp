@@ -148,8 +148,6 @@ class SphericalProjector {
     // loop that turns accumulators into images vectorises.
     std::uint32_t count_offset;
     static constexpr std::uint32_t kCountMask = (1u << 24) - 1;
-    std::uint32_t count() const { return count_offset & kCountMask; }
-    std::uint32_t best_offset() const { return count_offset >> 24; }
   };
   static_assert(sizeof(PixelAccumulator) == 16, "four accumulators per cache line");
 
