@@ -75,7 +75,6 @@ struct Row {
 
 Row measure(const std::string& name, const BenchArgs& args) {
   eval::BenchScan scan = eval::make_bench_scan(name);
-  scan.options.detector.apriltag.threads = args.threads;
   scan.options.projection.threads = args.threads;
   scan.options.lift_threads = args.threads;
   const PointCloud& cloud = scan.scan.scan.cloud;
@@ -127,7 +126,7 @@ std::string cell(const Spread& s) {
 
 void print(const std::vector<Row>& rows, const BenchArgs& args) {
   std::printf(
-      "iilfm bench: %d runs per scan after 3 warm-up runs, threads %d (AprilTag, projection, lift);"
+      "iilfm bench: %d runs per scan after 3 warm-up runs, threads %d (projection, lift);"
       " times in ms,"
       " median (10th-90th percentile)\n\n",
       args.repeat, args.threads);
@@ -168,7 +167,7 @@ Runner register_bench_command(CLI::App& app) {
   cmd->add_option("--repeat", args->repeat, "Timed runs per scan")->check(CLI::Range(1, 100000));
   cmd->add_option(
          "--threads", args->threads,
-         "threads for AprilTag, for projecting large clouds and for lifting several markers")
+         "threads for projecting large clouds and for lifting several markers")
       ->check(CLI::Range(1, 64));
   cmd->add_flag("--markdown", args->markdown, "Print a Markdown table");
   return [args] {

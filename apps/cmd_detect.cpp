@@ -142,7 +142,6 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.search_regions = !args.no_search_regions;
   options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.decode_gray = !args.no_gray_decode;
-  options.detector.apriltag.threads = args.threads;
   options.projection.threads = args.threads;
   options.lift_threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
@@ -386,7 +385,7 @@ Runner register_detect_command(CLI::App& app) {
                 "its search regions");
   cmd->add_option(
          "--threads", args->threads,
-         "threads for AprilTag, for projecting large clouds and for lifting several markers")
+         "threads for projecting large clouds and for lifting several markers")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--aruco-refine", args->aruco_refine,

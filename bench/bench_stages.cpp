@@ -57,8 +57,7 @@ void BM_Detect(benchmark::State& state, const std::string& name) {
   const ProjectedImage& image = bench::projected(name);
   PreprocessedImage pre;
   preprocess(image, scan(name).options.preprocess, pre);
-  DetectorOptions options = scan(name).options.detector;
-  options.apriltag.threads = static_cast<int>(state.range(0));
+  const DetectorOptions& options = scan(name).options.detector;
   std::vector<std::unique_ptr<MarkerDetector>> detectors;
   for (const std::string& family : scan(name).options.families)
     detectors.push_back(make_detector(family, options));
@@ -74,7 +73,6 @@ void BM_Detect(benchmark::State& state, const std::string& name) {
 void BM_Pipeline(benchmark::State& state, const std::string& name) {
   const bench::Scan& s = scan(name);
   PipelineOptions options = s.options;
-  options.detector.apriltag.threads = static_cast<int>(state.range(0));
   options.projection.threads = options.lift_threads = static_cast<int>(state.range(0));
   Pipeline pipeline(options);
   for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(s.scan.scan.cloud).markers.size());
@@ -169,9 +167,6 @@ void register_all() {
     benchmark::RegisterBenchmark(("Preprocess/" + name).c_str(), BM_Preprocess, name)
         ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("Detect/" + name).c_str(), BM_Detect, name)
-        ->ArgName("threads")
-        ->Arg(1)
-        ->Arg(2)
         ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("PlaneFit/" + name).c_str(), BM_PlaneFit, name)
         ->Unit(benchmark::kMillisecond);

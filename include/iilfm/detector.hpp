@@ -41,9 +41,6 @@ std::vector<Vec2> keypoint_outline(const Detection& detection);
 struct AprilTagOptions {
   float decimate = 1.0f;  // LiDAR images are small: full resolution by default
   float sigma = 0.0f;     // Gaussian blur of the segmentation image
-  // libapriltag worker threads. 1: on this project's 2-core machine a second thread made
-  // detection slower when idle (docs/performance.md) and only helped when the machine was busy.
-  int threads = 1;
   bool refine_edges = true;
   double decode_sharpening = 0.25;
   int max_hamming = -1;  // bits to correct; -1 = per-family default (see docs/detectors.md)

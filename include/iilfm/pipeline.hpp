@@ -7,8 +7,7 @@
 // mutable (the family, dictionary and sensor tables are immutable function statics), so any number
 // run in parallel (tests/threads). Shareable read-only across threads: PipelineOptions, MarkerMap,
 // SensorPreset, PointCloud and PointView (nobody writing them). A FrameResult is the owning
-// Pipeline's until its next process() call. AprilTagOptions::threads > 1 starts libapriltag's own
-// worker pool inside that one call.
+// Pipeline's until its next process() call.
 #pragma once
 
 #include <memory>

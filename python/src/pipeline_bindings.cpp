@@ -94,7 +94,6 @@ PipelineOptions pipeline_options(const Options& a) {
   options.detector.apriltag.search_regions = a.search_regions;
   options.detector.aruco.search_regions = a.search_regions;
   options.detector.apriltag.decode_gray = a.gray_decode;
-  options.detector.apriltag.threads = a.threads;
   options.projection.threads = a.threads;
   options.lift_threads = a.threads;
   options.detector.apriltag.max_hamming = a.max_hamming;

@@ -35,7 +35,10 @@ class AprilTagDetector final : public MarkerDetector {
     detector_ = apriltag_detector_create();
     detector_->quad_decimate = options.decimate;
     detector_->quad_sigma = options.sigma;
-    detector_->nthreads = std::max(1, options.threads);
+    // One thread always: libapriltag 3.3's worker pool can hand a worker a task from a task list
+    // being reallocated (fixed upstream in 3.4); two threads crashed about one run of the Detect
+    // benchmarks in a hundred. They only paid on whole-image searches (docs/performance.md).
+    detector_->nthreads = 1;
     detector_->refine_edges = options.refine_edges;
     detector_->decode_sharpening = options.decode_sharpening;
     const int bits = options.max_hamming >= 0

@@ -51,8 +51,6 @@ PipelineOptions os1_options() {
   PipelineOptions options;
   apply_sensor_preset(find_sensor_preset("os1-64"), options);
   options.map = scans().map;
-  // The pipelines' own threads are under test; libapriltag's worker pool is not instrumented.
-  options.detector.apriltag.threads = 1;
   return options;
 }
 
