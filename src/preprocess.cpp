@@ -16,46 +16,72 @@ namespace {
 
 // Mean of the observed 8-neighbours for unobserved pixels with at least `min_neighbours` of them.
 // Only the detector sees these values: no 3-D point is ever made from a filled pixel. One pass
-// over the rows: 3-row column sums of the observed values and of the observed count, then their
-// 3-column sums. Both loops vectorise (checked with -fopt-info-vec); the per-pixel one selects
-// rather than blends, since 0 x an infinite mean would be NaN.
+// over the rows: each row's observed values and observed count once (kept for the next two rows),
+// their 3-row column sums, then 3-column sums of those. The loops vectorise (checked with
+// -fopt-info-vec); the per-pixel one selects rather than blends, since 0 x an infinite mean would
+// be NaN.
 IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours,
                                   cv::Mat& filled, cv::Mat& filled_mask) {
   const int rows = intensity.rows, cols = intensity.cols;
   filled.create(rows, cols, CV_32F);
   filled_mask.create(rows, cols, CV_8U);
-  // Column sums padded by one zero column on each side.
-  thread_local std::vector<float> value_sum, count_sum;  // reused: no allocation once warm
-  value_sum.assign(static_cast<std::size_t>(cols) + 2, 0.0f);
-  count_sum.assign(static_cast<std::size_t>(cols) + 2, 0.0f);
+  // Rows padded by one zero column on each side: three rows' observed values and counts (row r in
+  // slot r % 3) and a fourth of zeros for the rows beyond the image.
+  const std::size_t padded = static_cast<std::size_t>(cols) + 2;
+  thread_local std::vector<float> row_values, row_counts, value_sum, count_sum;
+  row_values.assign(4 * padded, 0.0f);
+  row_counts.assign(4 * padded, 0.0f);
+  value_sum.resize(padded);
+  count_sum.resize(padded);
+  const auto load_row = [&](int r) {
+    const std::size_t slot = static_cast<std::size_t>(r % 3) * padded + 1;
+    float* __restrict vs = row_values.data() + slot;
+    float* __restrict cs = row_counts.data() + slot;
+    const float* __restrict v = intensity.ptr<float>(r);
+    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
+    for (int c = 0; c < cols; ++c) {
+      const float observed = m[c] ? 1.0f : 0.0f;
+      vs[c] = v[c] * observed;
+      cs[c] = observed;
+    }
+  };
+  // Row r's slot (r % 3), or the zero row beyond the image.
+  const auto slot_of = [&](int r) -> std::size_t {
+    return r < 0 || r >= rows ? 3 : static_cast<std::size_t>(r % 3);
+  };
   const float needed = static_cast<float>(min_neighbours) - 0.5f;
+  if (rows > 0) load_row(0);
   for (int r = 0; r < rows; ++r) {
-    float* __restrict vs = value_sum.data() + 1;
-    float* __restrict cs = count_sum.data() + 1;
-    std::fill(vs, vs + cols, 0.0f);
-    std::fill(cs, cs + cols, 0.0f);
-    for (int rr = std::max(0, r - 1); rr <= std::min(rows - 1, r + 1); ++rr) {
-      const float* __restrict v = intensity.ptr<float>(rr);
-      const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(rr);
-      for (int c = 0; c < cols; ++c) {
-        const float observed = m[c] ? 1.0f : 0.0f;
-        vs[c] += v[c] * observed;
-        cs[c] += observed;
-      }
+    if (r + 1 < rows) load_row(r + 1);  // into the slot of row r - 2, no longer needed
+    // Each column's 3-row sums, added top to bottom as a running sum from zero would (the same
+    // floats). Two loops: GCC vectorises neither when one holds both sums.
+    const std::size_t s0 = slot_of(r - 1) * padded, s1 = slot_of(r) * padded,
+                      s2 = slot_of(r + 1) * padded;
+    float* __restrict vs = value_sum.data();
+    float* __restrict cs = count_sum.data();
+    {
+      const float* __restrict a = row_values.data() + s0;
+      const float* __restrict b = row_values.data() + s1;
+      const float* __restrict c = row_values.data() + s2;
+      for (int k = 0; k < cols + 2; ++k) vs[k] = a[k] + b[k] + c[k];
+    }
+    {
+      const float* __restrict a = row_counts.data() + s0;
+      const float* __restrict b = row_counts.data() + s1;
+      const float* __restrict c = row_counts.data() + s2;
+      for (int k = 0; k < cols + 2; ++k) cs[k] = a[k] + b[k] + c[k];
     }
     const float* __restrict v = intensity.ptr<float>(r);
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
     float* __restrict out = filled.ptr<float>(r);
     std::uint8_t* __restrict out_mask = filled_mask.ptr<std::uint8_t>(r);
     // Every value is loaded before the selects, so the loop has no conditional load and
-    // vectorises (masks hold 0 or 255).
-    const float* __restrict vl = value_sum.data();  // vl[c] = vs[c - 1]
-    const float* __restrict cl = count_sum.data();
+    // vectorises (masks hold 0 or 255). vs[k] is the sum of image column k - 1.
     for (int c = 0; c < cols; ++c) {
       const float value = v[c];
       const std::uint8_t observed = m[c];
-      const float sum = vl[c] + vl[c + 1] + vl[c + 2];
-      const float count = cl[c] + cl[c + 1] + cl[c + 2];
+      const float sum = vs[c] + vs[c + 1] + vs[c + 2];
+      const float count = cs[c] + cs[c + 1] + cs[c + 2];
       const float mean = sum / std::max(count, 1.0f);
       const std::uint8_t fillable = count >= needed ? 255 : 0;
       // Selects, not a blend: 0 * an infinite mean would be NaN.
