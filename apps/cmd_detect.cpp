@@ -102,12 +102,25 @@ io::LoadedCloud load_input(const DetectArgs& args) {
   return total;
 }
 
-// Without a preset or both resolutions, they come from the cloud (`estimated` says so).
+// Where the image resolution came from, for the report and the JSON's image.resolution.
+struct ResolutionOrigin {
+  std::optional<ResolutionEstimate> estimated;  // no preset: all of it from the cloud
+  std::optional<double> mode_step_deg;  // a spinning preset's columns, from the cloud's mode
+};
+
+// Without a preset or both resolutions, they come from the cloud; a spinning preset's column step
+// comes from the cloud when it runs in another mode (`origin` says which).
 PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud,
-                                 std::optional<ResolutionEstimate>& estimated) {
+                                 ResolutionOrigin& origin) {
   PipelineOptions options;
+  std::optional<ResolutionEstimate>& estimated = origin.estimated;
   if (!args.sensor.empty()) {
-    apply_sensor_preset(find_sensor_preset(args.sensor), options);
+    const SensorPreset& preset = find_sensor_preset(args.sensor);
+    apply_sensor_preset(preset, options);
+    if (args.res_h <= 0) {
+      origin.mode_step_deg = mode_column_step(preset, cloud);
+      if (origin.mode_step_deg) options.projection.res_h_deg = *origin.mode_step_deg;
+    }
   } else if (args.res_h <= 0 || args.res_v <= 0) {
     try {
       estimated = estimate_resolution(cloud);
@@ -196,17 +209,27 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
 }
 
 // Where the resolution came from, as the JSON's image.resolution says.
-std::string resolution_source(const DetectArgs& args,
-                              const std::optional<ResolutionEstimate>& estimated) {
-  if (estimated) return "estimated (" + estimated->method + ")";
+std::string resolution_source(const DetectArgs& args, const ResolutionOrigin& origin) {
+  if (origin.estimated) return "estimated (" + origin.estimated->method + ")";
+  if (origin.mode_step_deg)
+    return "preset " + args.sensor + ", columns from the cloud (" +
+           std::to_string(std::lround(360.0 / *origin.mode_step_deg)) + ")";
   return !args.sensor.empty() ? "preset " + args.sensor : "given";
 }
 
-void report_estimate(const ResolutionEstimate& estimated) {
-  std::cout << "resolution estimated from the cloud (" << estimated.method
-            << "): " << estimated.res_h_deg << " x " << estimated.res_v_deg << " deg";
-  if (estimated.rings > 0) std::cout << ", " << estimated.rings << " rings";
-  std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
+void report_resolution(const DetectArgs& args, const ResolutionOrigin& origin) {
+  if (args.quiet) return;
+  if (const std::optional<ResolutionEstimate>& estimated = origin.estimated) {
+    std::cout << "resolution estimated from the cloud (" << estimated->method
+              << "): " << estimated->res_h_deg << " x " << estimated->res_v_deg << " deg";
+    if (estimated->rings > 0) std::cout << ", " << estimated->rings << " rings";
+    std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
+  } else if (origin.mode_step_deg) {
+    const SensorPreset& preset = find_sensor_preset(args.sensor);
+    std::cout << "columns from the cloud: " << std::lround(360.0 / *origin.mode_step_deg) << " ("
+              << *origin.mode_step_deg << " deg; preset " << preset.name << " assumes "
+              << std::lround(360.0 / preset.res_h_deg) << "; --res-h sets it)\n";
+  }
 }
 
 // The pipeline's own refusals (an image over --max-image-pixels) name the input file.
@@ -230,7 +253,7 @@ int run_detect(const DetectArgs& args) {
       throw file_error(args.input,
                        "--normalise-intensity needs a point cloud (an image has no range)");
     PipelineOptions options;
-    std::optional<ResolutionEstimate> none;
+    ResolutionOrigin none;
     if (!args.sensor.empty() || (args.res_h > 0 && args.res_v > 0)) {
       options = pipeline_options(args, PointCloud{}, none);
     } else {
@@ -260,10 +283,10 @@ int run_detect(const DetectArgs& args) {
       throw InputError(
           "--json and --image take one cloud; a sequence writes --jsonl, --tum and --html");
     return run_detect_sequence(sequence, [&args](const PointCloud& first, std::string& source) {
-      std::optional<ResolutionEstimate> estimated;
-      PipelineOptions options = pipeline_options(args, first, estimated);
-      if (estimated && !args.quiet) report_estimate(*estimated);
-      source = resolution_source(args, estimated);
+      ResolutionOrigin origin;
+      PipelineOptions options = pipeline_options(args, first, origin);
+      report_resolution(args, origin);
+      source = resolution_source(args, origin);
       return options;
     });
   }
@@ -286,12 +309,12 @@ int run_detect(const DetectArgs& args) {
                                      ")");
   }
 
-  std::optional<ResolutionEstimate> estimated;
-  Pipeline pipeline(pipeline_options(args, loaded.cloud, estimated));
-  info.resolution_source = resolution_source(args, estimated);
+  ResolutionOrigin origin;
+  Pipeline pipeline(pipeline_options(args, loaded.cloud, origin));
+  info.resolution_source = resolution_source(args, origin);
   const FrameResult& result = process_or_explain(pipeline, loaded.cloud, args.input);
   // Printed only now, so a refused cloud leaves nothing on stdout.
-  if (estimated && !args.quiet) report_estimate(*estimated);
+  report_resolution(args, origin);
   if (!args.json_path.empty()) {
     const std::string text = result_to_json(result, info).dump(2) + "\n";
     std::ofstream file(args.json_path);

@@ -110,4 +110,19 @@ ResolutionEstimate estimate_resolution(const PointCloud& cloud) {
   return estimate;
 }
 
+std::optional<double> mode_column_step(const SensorPreset& preset, const PointCloud& cloud) {
+  if (preset.kind != ScanKind::kSpinning || !(preset.res_h_deg > 0)) return std::nullopt;
+  ResolutionEstimate measured;
+  try {
+    measured = estimate_resolution(cloud);
+  } catch (const InputError&) {
+    return std::nullopt;  // too few points to tell: the preset's step
+  }
+  if (measured.rows != RowLayout::kRings || !(measured.res_h_deg > 0)) return std::nullopt;
+  const double ratio = measured.res_h_deg / preset.res_h_deg;
+  if (ratio < kSameMode && ratio > 1 / kSameMode) return std::nullopt;
+  if (ratio > kOtherModes || ratio < 1 / kOtherModes) return std::nullopt;
+  return 360.0 / std::round(360.0 / measured.res_h_deg);
+}
+
 }  // namespace iilfm

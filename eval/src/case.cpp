@@ -7,6 +7,7 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/pose.hpp"
+#include "iilfm/resolution.hpp"
 #include "iilfm/sensor.hpp"
 
 namespace iilfm::eval {
@@ -105,6 +106,10 @@ PipelineOptions pipeline_options_for(const SimulatedCase& c, LiftMethod lift) {
                                    [&](const SensorPreset& p) { return p.name == c.sensor.name; });
   if (preset != presets.end()) {
     apply_sensor_preset(*preset, options);
+    // As `iilfm detect --sensor` does: the columns of the scan's mode (the simulated OS1-128
+    // runs 2048 columns, its preset assumes 1024).
+    if (const std::optional<double> step = mode_column_step(*preset, c.scan.cloud))
+      options.projection.res_h_deg = *step;
   } else if (c.sensor.pattern == sim::ScanPattern::kSpinning) {
     options.projection.res_h_deg = c.sensor.azimuth_step_deg;
     options.projection.res_v_deg = closest_ring_spacing_deg(c.sensor);

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "iilfm/projection.hpp"
+#include "iilfm/sensor.hpp"
 #include "iilfm/types.hpp"
 
 namespace iilfm {
@@ -23,6 +25,16 @@ struct ResolutionEstimate {
 // or merged clouds): square pixels of kDensityFactor times the mean angular point spacing over
 // the covered field of view. InputError when the cloud has too few points to tell.
 ResolutionEstimate estimate_resolution(const PointCloud& cloud);
+
+// A spinning preset's column step is that of one operating mode (an Ouster's 1024 columns of 512,
+// 1024 or 2048; a Velodyne at 600 rpm of 300-1200), and a cloud from another mode projected at it
+// halves the columns (or leaves every other one empty). The column step of `cloud`'s mode: its
+// median azimuth step along the rings, rounded to a whole number of columns in 360 deg, when it
+// differs from the preset's by more than kSameMode and less than kOtherModes times; nothing
+// otherwise (the preset's mode, a non-spinning preset, a cloud without rings or merged sweeps).
+std::optional<double> mode_column_step(const SensorPreset& preset, const PointCloud& cloud);
+inline constexpr double kSameMode = 1.25;
+inline constexpr double kOtherModes = 2.2;
 
 // Pixel size over mean point spacing for non-repetitive scans: 1.15 reproduces the paper's
 // 0.05 deg for a 60-frame Mid-40 cloud, and leaves few holes inside the covered area.

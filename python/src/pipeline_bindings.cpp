@@ -203,6 +203,14 @@ class PyPipeline {
  public:
   explicit PyPipeline(const Options& o) : options_(pipeline_options(o)) {
     const bool given = o.res_h && o.res_v && *o.res_h > 0 && *o.res_v > 0;
+    if (o.sensor && !(o.res_h && *o.res_h > 0) &&
+        find_sensor_preset(*o.sensor).kind == ScanKind::kSpinning) {
+      // As `iilfm detect --sensor`: the columns of the first cloud's mode (mode_column_step).
+      mode_preset_ = find_sensor_preset(*o.sensor);
+      resolution_source_ = "preset " + *o.sensor;
+      Pipeline check(options_);
+      return;
+    }
     if (o.sensor || given) {
       resolution_source_ = o.sensor ? "preset " + *o.sensor : "given";
       pipeline_.emplace(options_);
@@ -253,6 +261,15 @@ class PyPipeline {
   // The pipeline, made now from the first cloud's resolution when it is to be estimated.
   Pipeline& pipeline_for(const PointsInput& in) {
     if (pipeline_) return *pipeline_;
+    if (mode_preset_) {
+      PipelineOptions options = options_;
+      if (const std::optional<double> step = mode_column_step(*mode_preset_, copy_of(in.view))) {
+        options.projection.res_h_deg = *step;
+        resolution_source_ +=
+            ", columns from the cloud (" + std::to_string(std::lround(360.0 / *step)) + ")";
+      }
+      return pipeline_.emplace(options);
+    }
     try {
       estimated_ = estimate_resolution(copy_of(in.view));
     } catch (const InputError& e) {
@@ -288,6 +305,7 @@ class PyPipeline {
   std::optional<Pipeline> pipeline_;
   std::optional<double> given_res_h_, given_res_v_;
   std::optional<ResolutionEstimate> estimated_;
+  std::optional<SensorPreset> mode_preset_;  // a spinning preset whose columns the cloud sets
   std::uintptr_t last_x_address_ = 0;
   std::string resolution_source_;  // as the CLI's JSON names it
 };

@@ -202,13 +202,15 @@ def test_search_regions_find_the_markers_of_the_whole_image():
 
 
 def test_gray_decode_reads_a_small_far_ouster_marker():
-    """A 40 cm tag36h11 5 m from an OS1-128 has cells 1.6 pixels wide: the binary image loses its
-    code, AprilTag on the search region's gray pixels reads it (docs/detectors.md, "Gray pixels
-    where the binary ones decode nothing"); gray_decode=False is the binary image alone."""
+    """A 40 cm tag36h11 5 m from an OS1-128 in 1024-column mode has cells 1.6 pixels wide: the
+    binary image loses its code, AprilTag on the search region's gray pixels reads it
+    (docs/detectors.md, "Gray pixels where the binary ones decode nothing"); gray_decode=False is
+    the binary image alone. (The simulated OS1-128 runs 2048 columns: res_h sets 1024.)"""
     cloud, _ = iilfm.simulate(sensor="os1-128", marker_size=0.4, distance=5.0, seed=2,
                               footprint=True, lidar_rpy=[0, 0.912, 1.791])
     def ids(**options):
-        return [m.id for m in iilfm.Pipeline("os1-128", **options).detect(cloud).markers]
+        pipeline = iilfm.Pipeline("os1-128", res_h=360 / 1024, **options)
+        return [m.id for m in pipeline.detect(cloud).markers]
     assert ids() == [0]
     assert ids(gray_decode=False) == []
 

@@ -116,6 +116,34 @@ TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), 0.0, 0.1);
 }
 
+TEST(Cli, SpinningPresetTakesTheColumnsOfTheCloudsMode) {
+  // The simulated OS1-128 runs 2048 columns, its preset assumes 1024 (the sensor's default mode).
+  // A 40 cm tag at 7 m: found in the cloud's 2048 columns, lost when they are merged in pairs.
+  const fs::path d = cli_temp_dir();
+  const std::string pcd = (d / "os2048.pcd").string(), json = (d / "os2048.json").string();
+  ASSERT_EQ(run_cli("sim --scene tag-wall --sensor os1-128 --marker-size 0.4 --distance 7 --seed 4 "
+                    "--footprint --lidar-rpy 0 0.801243 -1.309219 --out " +
+                    pcd)
+                .status,
+            0);
+  const CliRun r = run_cli("detect " + pcd + " --sensor os1-128 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("columns from the cloud: 2048"), std::string::npos) << r.out;
+  nlohmann::json j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["image"]["resolution"], "preset os1-128, columns from the cloud (2048)");
+  EXPECT_DOUBLE_EQ(j["image"]["res_h_deg"].get<double>(), 360.0 / 2048);
+  ASSERT_EQ(j["markers"].size(), 1u);
+  EXPECT_EQ(j["markers"][0]["id"], 0);
+
+  const CliRun given =
+      run_cli("detect " + pcd + " --sensor os1-128 --res-h 0.3515625 --json " + json);
+  ASSERT_EQ(given.status, 0) << given.err;
+  EXPECT_EQ(given.out.find("columns from the cloud"), std::string::npos) << given.out;
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["image"]["resolution"], "preset os1-128");
+  EXPECT_TRUE(j["markers"].empty());
+}
+
 TEST(Cli, NoMapMeansPoseNullWithAReason) {
   const fs::path d = cli_temp_dir();
   const std::string pcd = (d / "nomap.pcd").string(), json = (d / "nomap.json").string();

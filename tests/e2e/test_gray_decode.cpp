@@ -1,8 +1,9 @@
 // AprilTag reads the gray pixels of a search region where the binary image decoded nothing
-// (AprilTagOptions::decode_gray): a 40 cm tag36h11 at 5 m from an OS1-128 has cells 1.6 pixels
-// wide, blurred by the beam footprint, which one global threshold breaks up and libapriltag's own
-// local threshold reads. The scans are the detection-range study's (docs/sensors.md): raw Ouster
-// intensity normalised by the preset, footprint on, each seed pitching and yawing the LiDAR.
+// (AprilTagOptions::decode_gray): a 40 cm tag36h11 at 5 m from an OS1-128 in 1024-column mode has
+// cells 1.6 pixels wide, blurred by the beam footprint, which one global threshold breaks up and
+// libapriltag's own local threshold reads. The scans are the detection-range study's
+// (docs/sensors.md): raw Ouster intensity normalised by the preset, footprint on, each seed
+// pitching and yawing the LiDAR.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -28,6 +29,9 @@ Found found_at(double distance_m, int seeds) {
     const eval::SimulatedCase c = eval::simulate_case(spec, static_cast<std::uint64_t>(seed));
     for (const bool gray : {true, false}) {
       PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+      // Projected at 1024 columns, an OS1's default mode (the simulated one runs 2048, whose
+      // columns pipeline_options_for takes from the scan): cells 1.6 pixels wide at 5 m.
+      options.projection.res_h_deg = 360.0 / 1024;
       options.detector.apriltag.decode_gray = gray;
       Pipeline pipeline(options);
       const eval::CaseScore s = eval::score_frame(pipeline.process(c.scan.cloud), c.scan.truth);

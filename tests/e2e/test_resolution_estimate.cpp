@@ -6,6 +6,7 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/resolution.hpp"
+#include "iilfm/sensor.hpp"
 #include "iilfm/sim/sim.hpp"
 
 namespace iilfm {
@@ -75,6 +76,41 @@ TEST(ResolutionEstimate, RosetteSensorsFromThePointDensity) {
   // The paper's Mid-40 setting: 0.05 deg for 60 integrated frames.
   const ResolutionEstimate mid40 = estimate_resolution(scan_room(sim::mid40(), 60).cloud);
   EXPECT_NEAR(mid40.res_h_deg, 0.05, 0.005);
+}
+
+// A spinning preset's columns follow the cloud's mode: the simulated OS1-128 runs 2048 columns
+// (the preset assumes 1024), an OS1-64 turned to 512 columns halves them; every other simulated
+// spinning sensor runs its preset's mode and keeps the preset's step.
+TEST(ModeColumnStep, SpinningPresetsTakeTheColumnsOfTheCloudsMode) {
+  for (const std::string& name : sim::sensor_model_names()) {
+    const sim::SensorModel sensor = sim::sensor_model(name);
+    if (sensor.pattern != sim::ScanPattern::kSpinning) continue;
+    SCOPED_TRACE(name);
+    const std::optional<double> step =
+        mode_column_step(find_sensor_preset(name), scan_room(sensor, 1).cloud);
+    if (name == "os1-128") {
+      ASSERT_TRUE(step);
+      EXPECT_DOUBLE_EQ(*step, 360.0 / 2048);
+    } else {
+      EXPECT_FALSE(step) << *step;
+    }
+  }
+  sim::SensorModel slow = sim::sensor_model("os1-64");
+  slow.azimuth_step_deg = 360.0 / 512;
+  const std::optional<double> step =
+      mode_column_step(find_sensor_preset("os1-64"), scan_room(slow, 1).cloud);
+  ASSERT_TRUE(step);
+  EXPECT_DOUBLE_EQ(*step, 360.0 / 512);
+}
+
+TEST(ModeColumnStep, OnlySpinningPresetsAndCloudsWithRings) {
+  const PointCloud livox = scan_room(sim::mid40(), 10).cloud;
+  EXPECT_FALSE(mode_column_step(find_sensor_preset("mid40"), livox));
+  // A rosette cloud has no rings to measure a column step on.
+  EXPECT_FALSE(mode_column_step(find_sensor_preset("os1-128"), livox));
+  PointCloud few;
+  for (int i = 0; i < 10; ++i) few.push_back(1, 0.01f * i, 0, 10);
+  EXPECT_FALSE(mode_column_step(find_sensor_preset("os1-128"), few));
 }
 
 TEST(ResolutionEstimate, TooFewPointsIsAClearError) {
