@@ -113,3 +113,28 @@ def test_detect_frames_matches_the_cli_on_a_folder(walk, window):
         again = iilfm.Pipeline(map=walk / "map.yaml")
         for cloud, result in zip(clouds, results):
             assert again.detect(cloud).to_json()["markers"] == result.to_json()["markers"]
+
+
+def test_spinning_preset_takes_the_columns_of_the_clouds_mode(tmp_path):
+    """The simulated OS1-128 runs 2048 columns, the preset assumes 1024: Pipeline("os1-128")
+    takes the cloud's, as `iilfm detect --sensor os1-128` does; a given res_h keeps its own."""
+    pcd = tmp_path / "os1.pcd"
+    iilfm.simulate(sensor="os1-128", marker_size=0.6, distance=3.0, out=pcd)
+    out = tmp_path / "os1.json"
+    run_cli("detect", pcd, "--sensor", "os1-128", "--marker-size", "0.6", "--json", out, "-q")
+    cli = json.loads(out.read_text())
+    assert cli["image"]["resolution"] == "preset os1-128, columns from the cloud (2048)"
+    pipeline = iilfm.Pipeline("os1-128", marker_size=0.6)
+    assert pipeline.resolution is None  # until the first cloud
+    result = pipeline.detect(iilfm.read_cloud(pcd))
+    got = result.to_json()
+    assert got["image"] == cli["image"]
+    assert [m.id for m in result.markers] == [0] == [m["id"] for m in cli["markers"]]
+    np.testing.assert_allclose(got["markers"][0]["corners_lidar"],
+                               cli["markers"][0]["corners_lidar"], atol=1e-9)
+    assert pipeline.resolution["source"] == cli["image"]["resolution"]
+    assert pipeline.resolution["res_h_deg"] == pytest.approx(360 / 2048, abs=1e-12)
+    given = iilfm.Pipeline("os1-128", res_h=360 / 1024)
+    given.detect(iilfm.read_cloud(pcd))
+    assert given.resolution["source"] == "preset os1-128"
+    assert given.resolution["res_h_deg"] == pytest.approx(360 / 1024, abs=1e-12)
