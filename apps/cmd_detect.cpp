@@ -109,7 +109,7 @@ struct ResolutionOrigin {
 };
 
 // Without a preset or both resolutions, they come from the cloud; a spinning preset's column step
-// comes from the cloud when it runs in another mode (`origin` says which).
+// comes from a single sweep when it runs in another mode (`origin` says which).
 PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud,
                                  ResolutionOrigin& origin) {
   PipelineOptions options;
@@ -117,7 +117,9 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   if (!args.sensor.empty()) {
     const SensorPreset& preset = find_sensor_preset(args.sensor);
     apply_sensor_preset(preset, options);
-    if (args.res_h <= 0) {
+    // Measured on single sweeps only: sweeps integrated at other azimuth phases (--frames,
+    // --window-seconds) have finer gaps along a ring than the sensor's columns.
+    if (args.res_h <= 0 && args.frames == 1 && args.window_seconds <= 0) {
       origin.mode_step_deg = mode_column_step(preset, cloud);
       if (origin.mode_step_deg) options.projection.res_h_deg = *origin.mode_step_deg;
     }
