@@ -228,6 +228,7 @@ class PyPipeline {
   // recording with --frames): a Result per full window.
   std::vector<Result> detect_frames(const py::iterable& frames, std::size_t window) {
     if (window < 1) throw InputError("window must be at least 1 (frames)");
+    windows_ = window > 1;
     std::vector<Result> results;
     FrameWindow held(window);
     for (const py::handle& frame : frames) {
@@ -263,7 +264,10 @@ class PyPipeline {
     if (pipeline_) return *pipeline_;
     if (mode_preset_) {
       PipelineOptions options = options_;
-      if (const std::optional<double> step = mode_column_step(*mode_preset_, copy_of(in.view))) {
+      // Not on a window of integrated sweeps: their gaps along a ring are finer than the columns.
+      const std::optional<double> step =
+          windows_ ? std::nullopt : mode_column_step(*mode_preset_, copy_of(in.view));
+      if (step) {
         options.projection.res_h_deg = *step;
         resolution_source_ +=
             ", columns from the cloud (" + std::to_string(std::lround(360.0 / *step)) + ")";
@@ -306,6 +310,7 @@ class PyPipeline {
   std::optional<double> given_res_h_, given_res_v_;
   std::optional<ResolutionEstimate> estimated_;
   std::optional<SensorPreset> mode_preset_;  // a spinning preset whose columns the cloud sets
+  bool windows_ = false;                     // detect_frames integrates windows of sweeps
   std::uintptr_t last_x_address_ = 0;
   std::string resolution_source_;  // as the CLI's JSON names it
 };
