@@ -31,7 +31,8 @@ ResolutionEstimate estimate_resolution(const PointCloud& cloud);
 // halves the columns (or leaves every other one empty). The column step of `cloud`'s mode: its
 // median azimuth step along the rings, rounded to a whole number of columns in 360 deg, when it
 // differs from the preset's by more than kSameMode and less than kOtherModes times; nothing
-// otherwise (the preset's mode, a non-spinning preset, a cloud without rings or merged sweeps).
+// otherwise (the preset's mode, a non-spinning preset, a cloud without rings). For one sweep:
+// sweeps integrated at other azimuth phases have finer gaps along a ring than the columns.
 std::optional<double> mode_column_step(const SensorPreset& preset, const PointCloud& cloud);
 inline constexpr double kSameMode = 1.25;
 inline constexpr double kOtherModes = 2.2;
