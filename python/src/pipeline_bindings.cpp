@@ -203,10 +203,10 @@ class PyPipeline {
  public:
   explicit PyPipeline(const Options& o) : options_(pipeline_options(o)) {
     const bool given = o.res_h && o.res_v && *o.res_h > 0 && *o.res_v > 0;
-    if (o.sensor && !(o.res_h && *o.res_h > 0) &&
-        find_sensor_preset(*o.sensor).kind == ScanKind::kSpinning) {
+    const SensorPreset* preset = o.sensor ? &find_sensor_preset(*o.sensor) : nullptr;
+    if (preset && preset->kind == ScanKind::kSpinning && !(o.res_h && *o.res_h > 0)) {
       // As `iilfm detect --sensor`: the columns of the first cloud's mode (mode_column_step).
-      mode_preset_ = find_sensor_preset(*o.sensor);
+      mode_preset_ = *preset;
       resolution_source_ = "preset " + *o.sensor;
       Pipeline check(options_);
       return;
