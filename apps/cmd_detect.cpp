@@ -213,10 +213,8 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
 // Where the resolution came from, as the JSON's image.resolution says.
 std::string resolution_source(const DetectArgs& args, const ResolutionOrigin& origin) {
   if (origin.estimated) return "estimated (" + origin.estimated->method + ")";
-  if (origin.mode_step_deg)
-    return "preset " + args.sensor + ", columns from the cloud (" +
-           std::to_string(std::lround(360.0 / *origin.mode_step_deg)) + ")";
-  return !args.sensor.empty() ? "preset " + args.sensor : "given";
+  return !args.sensor.empty() ? preset_resolution_source(args.sensor, origin.mode_step_deg)
+                              : "given";
 }
 
 void report_resolution(const DetectArgs& args, const ResolutionOrigin& origin) {

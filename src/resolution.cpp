@@ -125,4 +125,13 @@ std::optional<double> mode_column_step(const SensorPreset& preset, const PointCl
   return 360.0 / std::round(360.0 / measured.res_h_deg);
 }
 
+std::string preset_resolution_source(const std::string& preset,
+                                     std::optional<double> mode_step_deg) {
+  std::string source = "preset " + preset;
+  if (mode_step_deg)
+    source +=
+        ", columns from the cloud (" + std::to_string(std::lround(360.0 / *mode_step_deg)) + ")";
+  return source;
+}
+
 }  // namespace iilfm

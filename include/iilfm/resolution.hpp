@@ -37,6 +37,11 @@ std::optional<double> mode_column_step(const SensorPreset& preset, const PointCl
 inline constexpr double kSameMode = 1.25;
 inline constexpr double kOtherModes = 2.2;
 
+// How the JSON's image.resolution names a preset's resolution: "preset NAME", followed by
+// ", columns from the cloud (N)" when mode_column_step gave the columns.
+std::string preset_resolution_source(const std::string& preset,
+                                     std::optional<double> mode_step_deg);
+
 // Pixel size over mean point spacing for non-repetitive scans: 1.15 reproduces the paper's
 // 0.05 deg for a 60-frame Mid-40 cloud, and leaves few holes inside the covered area.
 inline constexpr double kDensityFactor = 1.15;

@@ -207,12 +207,11 @@ class PyPipeline {
     if (preset && preset->kind == ScanKind::kSpinning && !(o.res_h && *o.res_h > 0)) {
       // As `iilfm detect --sensor`: the columns of the first cloud's mode (mode_column_step).
       mode_preset_ = *preset;
-      resolution_source_ = "preset " + *o.sensor;
       Pipeline check(options_);
       return;
     }
     if (o.sensor || given) {
-      resolution_source_ = o.sensor ? "preset " + *o.sensor : "given";
+      resolution_source_ = o.sensor ? preset_resolution_source(*o.sensor, std::nullopt) : "given";
       pipeline_.emplace(options_);
       return;
     }
@@ -267,11 +266,8 @@ class PyPipeline {
       // Not on a window of integrated sweeps: their gaps along a ring are finer than the columns.
       const std::optional<double> step =
           windows_ ? std::nullopt : mode_column_step(*mode_preset_, copy_of(in.view));
-      if (step) {
-        options.projection.res_h_deg = *step;
-        resolution_source_ +=
-            ", columns from the cloud (" + std::to_string(std::lround(360.0 / *step)) + ")";
-      }
+      if (step) options.projection.res_h_deg = *step;
+      resolution_source_ = preset_resolution_source(mode_preset_->name, step);
       return pipeline_.emplace(options);
     }
     try {
