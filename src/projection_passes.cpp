@@ -21,7 +21,7 @@ IILFM_AVX2_CLONES void spherical_coordinates_contiguous(const float* x, const fl
   spherical_coordinates(Contiguous{x}, Contiguous{y}, Contiguous{z}, n, azimuth, elevation, range);
 }
 
-IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g,
+IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g, std::int32_t row_stride,
                                                const float* __restrict azimuth,
                                                const float* __restrict elevation,
                                                const float* __restrict range, std::size_t n,
@@ -32,7 +32,6 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g,
               inv_res_v = static_cast<float>(1 / g.res_v);
   const float u_end = static_cast<float>(g.width) - 0.5f,
               v_end = static_cast<float>(g.height) - 0.5f;
-  const std::int32_t width = g.width;
   std::size_t outside = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float u = u0 - azimuth[i] * inv_res_h, v = v0 - elevation[i] * inv_res_v;
@@ -46,7 +45,7 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g,
                 vc = std::min(v_end, std::max(0.0f, v + 0.5f));
     const std::int32_t col = static_cast<std::int32_t>(uc), row = static_cast<std::int32_t>(vc);
     const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
-    pixel[i] = in ? row * width + col : -1;
+    pixel[i] = in ? row * row_stride + col : -1;
     offset[i] = du * du + dv * dv;
     outside += in ? 0 : 1;
   }

@@ -42,10 +42,11 @@ inline void spherical_coordinates(const PointView& cloud, float* azimuth, float*
   }
 }
 
-// Pass 2 for uniform rows: each point's pixel (row-major index, -1 outside the image) and squared
-// distance to the pixel centre. Branch-free, so it vectorises (like pass 1, 8 lanes with AVX2).
-// Returns the points outside.
-std::size_t pixels_of_points(const ImageGeometry& g, const float* azimuth, const float* elevation,
-                             const float* range, std::size_t n, std::int32_t* pixel, float* offset);
+// Pass 2 for uniform rows: each point's pixel (row * row_stride + column, -1 outside the image)
+// and squared distance to the pixel centre. Branch-free, so it vectorises (like pass 1, 8 lanes
+// with AVX2). Returns the points outside.
+std::size_t pixels_of_points(const ImageGeometry& g, std::int32_t row_stride, const float* azimuth,
+                             const float* elevation, const float* range, std::size_t n,
+                             std::int32_t* pixel, float* offset);
 
 }  // namespace iilfm::detail

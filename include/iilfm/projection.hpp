@@ -151,14 +151,21 @@ class SphericalProjector {
   };
   static_assert(sizeof(PixelAccumulator) == 16, "four accumulators per cache line");
 
-  // Pass 4: the accumulators turned into the images, and cleared.
-  static void write_images(PixelAccumulator* pixels, std::size_t total, bool nearest, float* range,
-                           float* intensity, std::uint8_t* mask, std::int32_t* index,
-                           std::int32_t* count);
+  // Accumulators per image row: the width rounded up to whole cache lines, plus one line when
+  // that count is even. A row whose size is a multiple of 4 KB (2048 or 1024 columns) would map
+  // every row of a column to the same cache sets, and a spinning sweep bins column by column.
+  static std::size_t accumulator_row_stride(int width);
+
+  // Pass 4: rows [first_row, end_row) of accumulators (`stride` apart) turned into the images'
+  // rows (`width` apart), and cleared.
+  static void write_images(PixelAccumulator* pixels, int first_row, int end_row, int width,
+                           std::size_t stride, bool nearest, float* range, float* intensity,
+                           std::uint8_t* mask, std::int32_t* index, std::int32_t* count);
 
   ProjectionOptions options_;
   std::vector<float> azimuth_, elevation_, range_, offset_;
-  std::vector<std::int32_t> pixel_;  // each point's pixel (row-major), -1 when not in the image
+  // Each point's accumulator (row * accumulator_row_stride + column), -1 when not in the image.
+  std::vector<std::int32_t> pixel_;
   std::vector<PixelAccumulator> pixels_;
   bool pixels_clear_ = true;  // every accumulator is zero (pass 4 leaves them so)
 };

@@ -141,8 +141,10 @@ TEST(PixelsOfPoints, PutsEveryPointInThePixelOfItsAngles) {
   range[7] = 0;  // unmeasured
   range[8] = std::numeric_limits<float>::quiet_NaN();
   elevation[9] = std::numeric_limits<float>::quiet_NaN();
-  const std::size_t outside = detail::pixels_of_points(
-      g, azimuth.data(), elevation.data(), range.data(), n, pixel.data(), offset.data());
+  const std::int32_t row_stride = g.width + 7;  // the accumulators' rows are padded
+  const std::size_t outside =
+      detail::pixels_of_points(g, row_stride, azimuth.data(), elevation.data(), range.data(), n,
+                               pixel.data(), offset.data());
   std::size_t expected_outside = 0, checked = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 uv = g.pixel_of_angles(azimuth[i], elevation[i]);
@@ -156,7 +158,7 @@ TEST(PixelsOfPoints, PutsEveryPointInThePixelOfItsAngles) {
     const double du = uv.x() - std::round(uv.x()), dv = uv.y() - std::round(uv.y());
     if (std::abs(std::abs(du) - 0.5) < 1e-3 || std::abs(std::abs(dv) - 0.5) < 1e-3) continue;
     ++checked;
-    EXPECT_EQ(pixel[i], std::lround(uv.y()) * g.width + std::lround(uv.x())) << i;
+    EXPECT_EQ(pixel[i], std::lround(uv.y()) * row_stride + std::lround(uv.x())) << i;
     EXPECT_NEAR(offset[i], du * du + dv * dv, 1e-3) << i;
   }
   EXPECT_EQ(outside, expected_outside);
