@@ -114,13 +114,45 @@ IILFM_AVX2_CLONES void cos_incidence_inside(const InnerRows& in,
   }
 }
 
+// out[c] = terms[0][c] + terms[1][c] + ... (added in that order) for c < cols, 32 columns at a
+// time in registers. Adding row by row into `out` stalled on 4K aliasing: a 2048-column image's
+// rows lie 8 KB apart, so each load looked to the CPU as if it waited for the store before it.
+// Eight floats: one AVX register, or two SSE ones. Unaligned and allowed to alias floats, so
+// a row's floats can be read and written through it.
+using Floats8 = float __attribute__((vector_size(32), aligned(4), may_alias));
+
+IILFM_AVX2_CLONES void add_terms(const float* const* terms, int count, int cols,
+                                 float* __restrict out) {
+  int c = 0;
+  for (; c + 32 <= cols; c += 32) {
+    const auto* first = reinterpret_cast<const Floats8*>(terms[0] + c);
+    Floats8 a0 = first[0], a1 = first[1], a2 = first[2], a3 = first[3];
+    for (int k = 1; k < count; ++k) {
+      const auto* term = reinterpret_cast<const Floats8*>(terms[k] + c);
+      a0 += term[0];
+      a1 += term[1];
+      a2 += term[2];
+      a3 += term[3];
+    }
+    auto* to = reinterpret_cast<Floats8*>(out + c);
+    to[0] = a0;
+    to[1] = a1;
+    to[2] = a2;
+    to[3] = a3;
+  }
+  for (; c < cols; ++c) {
+    float acc = terms[0][c];
+    for (int k = 1; k < count; ++k) acc += terms[k][c];
+    out[c] = acc;
+  }
+}
+
 // Sum of `in` (CV_32F) over the (2a+1) x (2b+1) window about every pixel, zero outside the image.
-// Small windows (the Ouster presets': 7 x 7) are summed directly, across then down, in loops that
-// vectorise (four cv::boxFilter calls took 1.65 ms on the OS1-128 bench image; the direct sums took
-// `Preprocess/os1-128` from 2.4-2.9 to 1.9 ms); larger ones go to cv::boxFilter, whose running
-// sums cost the same at any size.
-IILFM_AVX2_CLONES void window_sums(const cv::Mat& in, int a, int b, NormalisationBuffers& work,
-                                   cv::Mat& sum) {
+// Small windows (the Ouster presets': 7 x 7 at 1024 columns) are summed directly, across then
+// down, each sum's terms in a fixed order (four cv::boxFilter calls took 1.65 ms on the OS1-128
+// bench image; the direct sums took `Preprocess/os1-128` from 2.4-2.9 to 1.9 ms); larger ones go
+// to cv::boxFilter, whose running sums cost the same at any size.
+void window_sums(const cv::Mat& in, int a, int b, NormalisationBuffers& work, cv::Mat& sum) {
   constexpr int kDirectMax = 8;
   if (a > kDirectMax || b > kDirectMax) {
     cv::boxFilter(in, sum, CV_32F, cv::Size(2 * a + 1, 2 * b + 1), cv::Point(-1, -1), false,
@@ -131,24 +163,18 @@ IILFM_AVX2_CLONES void window_sums(const cv::Mat& in, int a, int b, Normalisatio
   work.across.create(rows, cols, CV_32F);
   sum.create(rows, cols, CV_32F);
   work.padded.assign(static_cast<std::size_t>(cols + 2 * a), 0.0f);
-  float* __restrict padded = work.padded.data();
+  float* padded = work.padded.data();
+  const float* terms[2 * kDirectMax + 1];
+  for (int k = 0; k <= 2 * a; ++k) terms[k] = padded + k;
   for (int r = 0; r < rows; ++r) {
-    const float* __restrict row = in.ptr<float>(r);
+    const float* row = in.ptr<float>(r);
     std::copy(row, row + cols, padded + a);
-    float* __restrict across = work.across.ptr<float>(r);
-    std::copy(padded, padded + cols, across);
-    for (int k = 1; k <= 2 * a; ++k)
-      for (int c = 0; c < cols; ++c) across[c] += padded[c + k];
+    add_terms(terms, 2 * a + 1, cols, work.across.ptr<float>(r));
   }
   for (int r = 0; r < rows; ++r) {
-    float* __restrict out = sum.ptr<float>(r);
     const int first = std::max(0, r - b), last = std::min(rows - 1, r + b);
-    const float* __restrict top = work.across.ptr<float>(first);
-    std::copy(top, top + cols, out);
-    for (int rr = first + 1; rr <= last; ++rr) {
-      const float* __restrict add = work.across.ptr<float>(rr);
-      for (int c = 0; c < cols; ++c) out[c] += add[c];
-    }
+    for (int rr = first; rr <= last; ++rr) terms[rr - first] = work.across.ptr<float>(rr);
+    add_terms(terms, last - first + 1, cols, sum.ptr<float>(r));
   }
 }
 
