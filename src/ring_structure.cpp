@@ -9,13 +9,25 @@ namespace iilfm {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-// Enough points to see every ring of a 128-channel sensor many times over, few enough that the
-// check costs a fraction of the projection.
-constexpr std::size_t kMaxSamples = 200'000;
 constexpr std::size_t kMinRings = 4;
 constexpr std::size_t kMaxRings = 512;
 
-std::size_t sample_stride(std::size_t n) { return std::max<std::size_t>(1, n / kMaxSamples); }
+// Every `stride`-th point is sampled, with a stride that shares no factor with the channel count
+// (nor with 2, 3, 5 and 7, for clouds whose count is unknown): drivers write every ring of a column
+// before the next column, and a stride of 2 through a 128-channel sweep would see only the even
+// rings.
+std::size_t sample_stride(std::size_t n, std::size_t max_samples, std::size_t channels) {
+  std::size_t stride = (n + max_samples - 1) / max_samples;
+  if (stride <= 1) return 1;
+  while (std::gcd(stride, 210 * channels) != 1) ++stride;
+  return stride;
+}
+
+// Enough points to see every ring of a 128-channel sensor many times over, few enough that the
+// check costs a fraction of the projection. The ring field's statistics need fewer than the
+// elevation histogram (each point says which ring it is).
+constexpr std::size_t kMaxElevationSamples = 200'000;
+constexpr std::size_t kMaxRingFieldSamples = 32'768;
 
 // Half-width of the band around a ring's elevation that its points must fall in: a quarter of the
 // gap to the nearer neighbour, so a point is never closer to the wrong ring.
@@ -37,39 +49,59 @@ double RingStructure::mean_spacing() const {
   return (elevation.front() - elevation.back()) / static_cast<double>(elevation.size() - 1);
 }
 
-std::optional<RingStructure> rings_from_field(const PointView& cloud, const float* elevation) {
-  if (!cloud.has_ring() || cloud.empty()) return std::nullopt;
-  const std::size_t n = cloud.size(), stride = sample_stride(n);
-  std::uint16_t max_ring = 0;
-  for (std::size_t i = 0; i < n; ++i) max_ring = std::max(max_ring, cloud.ring[i]);
-  if (max_ring >= 4096) return std::nullopt;
-  const std::size_t ring_ids = static_cast<std::size_t>(max_ring) + 1;
+namespace {
 
-  // Mean elevation per ring, then the mean again over the points near it (drops stray returns).
+// Each ring's mean elevation over the points within 0.5 deg of its first mean (drops stray
+// returns), from every `stride`-th point; `near` counts the points it used.
+void ring_means(const PointView& cloud, const float* elevation, std::size_t stride,
+                std::vector<double>& mean, std::vector<double>& near) {
+  const std::size_t n = cloud.size(), ring_ids = mean.size();
   std::vector<double> sum(ring_ids, 0), count(ring_ids, 0);
   for (std::size_t i = 0; i < n; i += stride) {
     if (!std::isfinite(elevation[i])) continue;
     sum[cloud.ring[i]] += elevation[i];
     count[cloud.ring[i]] += 1;
   }
-  std::vector<double> mean(ring_ids, 0);
   for (std::size_t r = 0; r < ring_ids; ++r) mean[r] = count[r] > 0 ? sum[r] / count[r] : 0;
   std::fill(sum.begin(), sum.end(), 0);
-  std::vector<double> near(ring_ids, 0);
+  std::fill(near.begin(), near.end(), 0);
   for (std::size_t i = 0; i < n; i += stride) {
     const std::uint16_t r = cloud.ring[i];
-    if (std::fabs(elevation[i] - mean[r]) > 0.5 * kDeg) continue;
+    if (!(std::fabs(elevation[i] - mean[r]) <= 0.5 * kDeg)) continue;  // NaN too
     sum[r] += elevation[i];
     near[r] += 1;
   }
+  for (std::size_t r = 0; r < ring_ids; ++r)
+    if (near[r] > 0) mean[r] = sum[r] / near[r];
+}
+
+}  // namespace
+
+std::optional<RingStructure> rings_from_field(const PointView& cloud, const float* elevation) {
+  if (!cloud.has_ring() || cloud.empty()) return std::nullopt;
+  const std::size_t n = cloud.size();
+  std::uint16_t max_ring = 0;
+  for (std::size_t i = 0; i < n; ++i) max_ring = std::max(max_ring, cloud.ring[i]);
+  if (max_ring >= 4096) return std::nullopt;
+  const std::size_t ring_ids = static_cast<std::size_t>(max_ring) + 1;
+  const std::size_t stride = sample_stride(n, kMaxRingFieldSamples, ring_ids);
+
+  // A ring is kept with 3 points near its mean. From a sample, unless the sample leaves a ring
+  // that has 3 points in the cloud with fewer: then from every point, so sampling never drops a
+  // sparse ring (one that sees little) that the whole cloud keeps.
+  std::vector<double> mean(ring_ids, 0), near(ring_ids, 0);
+  ring_means(cloud, elevation, stride, mean, near);
+  if (stride > 1) {
+    std::vector<std::uint32_t> points(ring_ids, 0);
+    for (std::size_t i = 0; i < n; ++i) ++points[cloud.ring[i]];
+    bool sparse_ring = false;
+    for (std::size_t r = 0; r < ring_ids; ++r) sparse_ring |= points[r] >= 3 && near[r] < 3;
+    if (sparse_ring) ring_means(cloud, elevation, 1, mean, near);
+  }
 
   std::vector<std::uint16_t> kept;
-  for (std::size_t r = 0; r < ring_ids; ++r) {
-    if (near[r] >= 3) {
-      mean[r] = sum[r] / near[r];
-      kept.push_back(static_cast<std::uint16_t>(r));
-    }
-  }
+  for (std::size_t r = 0; r < ring_ids; ++r)
+    if (near[r] >= 3) kept.push_back(static_cast<std::uint16_t>(r));
   if (kept.size() < kMinRings || kept.size() > kMaxRings) return std::nullopt;
   std::sort(kept.begin(), kept.end(), [&](auto a, auto b) { return mean[a] > mean[b]; });
 
@@ -98,7 +130,7 @@ std::optional<RingStructure> rings_from_field(const PointView& cloud, const floa
 }
 
 std::optional<RingStructure> rings_from_elevations(const float* elevation, std::size_t n) {
-  const std::size_t stride = sample_stride(n);
+  const std::size_t stride = sample_stride(n, kMaxElevationSamples, 1);
   float lo = 10, hi = -10;
   std::size_t samples = 0;
   for (std::size_t i = 0; i < n; i += stride) {

@@ -66,6 +66,36 @@ TEST(RingStructure, FromTheRingFieldAndFromElevationsAgree) {
   EXPECT_EQ(by_field->row_of_ring[0], static_cast<int>(truth.size() - 1));
 }
 
+TEST(RingStructure, EveryRingOfALargeColumnMajorSweepIsFound) {
+  // A 128-channel sweep at 3600 columns, in the drivers' order (every ring of one column, then the
+  // next column): 460k points, more than the ring statistics sample. A sampling stride that shares
+  // a factor with the channel count would see only some rings and drop the others' points.
+  constexpr int kRings = 128, kColumns = 3600;
+  PointCloud cloud;
+  cloud.reserve(static_cast<std::size_t>(kRings) * kColumns, true);
+  std::vector<float> el;
+  for (int col = 0; col < kColumns; ++col) {
+    const double a = (col + 0.5) * 2 * M_PI / kColumns;
+    for (int ring = 0; ring < kRings; ++ring) {
+      const double e = (-22.5 + 45.0 * ring / (kRings - 1)) * kDeg, r = 8.0;
+      cloud.push_back(static_cast<float>(r * std::cos(e) * std::cos(a)),
+                      static_cast<float>(r * std::cos(e) * std::sin(a)),
+                      static_cast<float>(r * std::sin(e)), 10.0f);
+      cloud.ring.push_back(static_cast<std::uint16_t>(ring));
+      el.push_back(static_cast<float>(e));
+    }
+  }
+  const auto rings = rings_from_field(cloud, el.data());
+  ASSERT_TRUE(rings);
+  ASSERT_EQ(rings->rows(), static_cast<std::size_t>(kRings));
+  for (int ring = 0; ring < kRings; ++ring) {
+    const int row = rings->row_of_ring[static_cast<std::size_t>(ring)];
+    ASSERT_EQ(row, kRings - 1 - ring) << ring;
+    EXPECT_NEAR(rings->elevation[static_cast<std::size_t>(row)], el[static_cast<std::size_t>(ring)],
+                1e-6);
+  }
+}
+
 TEST(RingStructure, ARosetteOrLivoxLinesAreNotRings) {
   // Points spread evenly over a 38 deg cone, tagged with six "line" numbers as Livox drivers do.
   PointCloud cloud;
