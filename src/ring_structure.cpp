@@ -42,15 +42,6 @@ std::vector<double> ring_bands(const std::vector<double>& elevation) {
   return band;
 }
 
-}  // namespace
-
-double RingStructure::mean_spacing() const {
-  if (elevation.size() < 2) return 0;
-  return (elevation.front() - elevation.back()) / static_cast<double>(elevation.size() - 1);
-}
-
-namespace {
-
 // Each ring's mean elevation over the points within 0.5 deg of its first mean (drops stray
 // returns), from every `stride`-th point; `near` counts the points it used.
 void ring_means(const PointView& cloud, const float* elevation, std::size_t stride,
@@ -76,6 +67,11 @@ void ring_means(const PointView& cloud, const float* elevation, std::size_t stri
 }
 
 }  // namespace
+
+double RingStructure::mean_spacing() const {
+  if (elevation.size() < 2) return 0;
+  return (elevation.front() - elevation.back()) / static_cast<double>(elevation.size() - 1);
+}
 
 std::optional<RingStructure> rings_from_field(const PointView& cloud, const float* elevation) {
   if (!cloud.has_ring() || cloud.empty()) return std::nullopt;
