@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cpu_clones.hpp"
+#include "hole_classes.hpp"
 #include "iilfm/square_pixels.hpp"
 
 namespace iilfm {
@@ -226,129 +227,6 @@ IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid, dou
   }
 }
 
-// The binary image's holes: each pixel of `detect` still unobserved (valid 0) becomes white when
-// most observed pixels around it are white, black when most are black, and white when none is
-// observed (the detectors' background: no edge). "Around" is the pixel's block of `block` pixels
-// square and the 8 blocks next to it. A constant for all holes drew the gaps between a sparse
-// rosette's petals (a 10-frame Mid-40 image is 80 % unobserved away from its centre) as thousands
-// of black streaks on a white wall: no marker, but 3-5 times AprilTag's clustering time, and a
-// 17 cm tag at 2 m with gaps inside it was not found before 10 frames (now from 2; measured in
-// docs/pipeline.md). Taking the class of the surroundings keeps a dark floor dark, where all-white
-// holes made random patterns that weak families (tag16h5, tag25h9) decoded. Counts per block in
-// one pass over the image, then one pass that writes the holes.
-IILFM_AVX2_CLONES void classify_holes(const cv::Mat& valid, int block, cv::Mat& detect,
-                                      PreprocessedImage& out) {
-  const int rows = detect.rows, cols = detect.cols;
-  const int bw = (cols + block - 1) / block, bh = (rows + block - 1) / block;
-  const std::size_t blocks = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);
-  out.block_white.assign(blocks, 0);
-  out.block_observed.assign(blocks, 0);
-  // Per column over a band of `block` rows (byte masks hold 0 or 255: & 1 counts), then per block.
-  out.column_white.resize(static_cast<std::size_t>(cols));
-  out.column_observed.resize(static_cast<std::size_t>(cols));
-  int* column_white = out.column_white.data();
-  int* column_observed = out.column_observed.data();
-  for (int br = 0; br < bh; ++br) {
-    std::fill(column_white, column_white + cols, 0);
-    std::fill(column_observed, column_observed + cols, 0);
-    for (int r = br * block; r < std::min(rows, (br + 1) * block); ++r) {
-      const std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
-      const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
-      for (int c = 0; c < cols; ++c) {
-        column_observed[c] += m[c] & 1;
-        column_white[c] += m[c] & d[c] & 1;
-      }
-    }
-    int* __restrict white = out.block_white.data() + static_cast<std::size_t>(br) * bw;
-    int* __restrict observed = out.block_observed.data() + static_cast<std::size_t>(br) * bw;
-    const int whole = cols / block;  // blocks whose `block` columns all lie in the image
-    if (block == 2) {  // the default, in a loop without an inner one, so it vectorises
-      for (int bc = 0; bc < whole; ++bc) {
-        white[bc] = column_white[2 * bc] + column_white[2 * bc + 1];
-        observed[bc] = column_observed[2 * bc] + column_observed[2 * bc + 1];
-      }
-    } else {
-      for (int bc = 0; bc < whole; ++bc) {
-        int w = 0, n = 0;  // in registers, not added into the arrays column by column
-        for (int k = bc * block; k < (bc + 1) * block; ++k) {
-          w += column_white[k];
-          n += column_observed[k];
-        }
-        white[bc] = w;
-        observed[bc] = n;
-      }
-    }
-    for (int k = whole * block; k < cols; ++k) {  // the last, partial block
-      white[whole] += column_white[k];
-      observed[whole] += column_observed[k];
-    }
-  }
-  // Each block with the 8 around it: sums across (a block and its left and right neighbours),
-  // then down (three rows of those), in loops without a bound per block, so they vectorise.
-  out.across_white.resize(blocks);
-  out.across_observed.resize(blocks);
-  for (int br = 0; br < bh; ++br) {
-    const std::size_t row = static_cast<std::size_t>(br) * bw;
-    const int* __restrict w = out.block_white.data() + row;
-    const int* __restrict n = out.block_observed.data() + row;
-    int* __restrict aw = out.across_white.data() + row;
-    int* __restrict an = out.across_observed.data() + row;
-    for (int bc = 0; bc < bw; ++bc) {
-      aw[bc] = w[bc];
-      an[bc] = n[bc];
-    }
-    for (int bc = 1; bc < bw; ++bc) {
-      aw[bc] += w[bc - 1];
-      an[bc] += n[bc - 1];
-    }
-    for (int bc = 0; bc + 1 < bw; ++bc) {
-      aw[bc] += w[bc + 1];
-      an[bc] += n[bc + 1];
-    }
-  }
-  // The class of each block, then spread out to one byte per column of its band of rows.
-  out.block_class.resize(static_cast<std::size_t>(bw));
-  std::uint8_t* __restrict cls = out.block_class.data();
-  out.hole_class.create(bh, cols, CV_8U);
-  const int whole = cols / block;  // blocks whose `block` columns all lie in the image
-  for (int br = 0; br < bh; ++br) {
-    const auto at = [&](const std::vector<int>& v, int r) {
-      return v.data() + static_cast<std::size_t>(std::clamp(r, 0, bh - 1)) * bw;
-    };
-    // Rows off the image count nothing: their weight is 0.
-    const int above = br > 0 ? 1 : 0, below = br + 1 < bh ? 1 : 0;
-    const int* __restrict w0 = at(out.across_white, br - 1);
-    const int* __restrict w1 = at(out.across_white, br);
-    const int* __restrict w2 = at(out.across_white, br + 1);
-    const int* __restrict n0 = at(out.across_observed, br - 1);
-    const int* __restrict n1 = at(out.across_observed, br);
-    const int* __restrict n2 = at(out.across_observed, br + 1);
-    for (int bc = 0; bc < bw; ++bc) {
-      const int w = above * w0[bc] + w1[bc] + below * w2[bc];
-      const int n = above * n0[bc] + n1[bc] + below * n2[bc];
-      cls[bc] = (n == 0 || 2 * w > n) ? 255 : 0;
-    }
-    std::uint8_t* __restrict expanded = out.hole_class.ptr<std::uint8_t>(br);
-    if (block == 2) {  // the default: two bytes a block, in a loop that vectorises
-      for (int bc = 0; bc < whole; ++bc) {
-        const std::uint16_t pair = static_cast<std::uint16_t>(cls[bc] * 0x0101u);
-        std::memcpy(expanded + 2 * bc, &pair, 2);
-      }
-    } else {
-      for (int bc = 0; bc < whole; ++bc)
-        for (int k = 0; k < block; ++k) expanded[bc * block + k] = cls[bc];
-    }
-    for (int c = whole * block; c < cols; ++c) expanded[c] = cls[whole];
-  }
-  for (int r = 0; r < rows; ++r) {
-    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
-    const std::uint8_t* __restrict hole = out.hole_class.ptr<std::uint8_t>(r / block);
-    std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
-    for (int c = 0; c < cols; ++c)
-      d[c] = static_cast<std::uint8_t>((d[c] & m[c]) | (hole[c] & ~m[c]));  // masks: 0 or 255
-  }
-}
-
 }  // namespace
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
@@ -397,8 +275,14 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     out.detect.setTo(options.unobserved_value, filled_mask == 0);
   } else {
     binarize(filled, filled_mask, out.threshold, options.unobserved_value, out.detect);
+    // Holes take the class of their surroundings: a constant for all holes drew the gaps between
+    // a sparse rosette's petals (a 10-frame Mid-40 image is 80 % unobserved away from its centre)
+    // as thousands of black streaks on a white wall: no marker, but 3-5 times AprilTag's
+    // clustering time, and a 17 cm tag at 2 m with gaps inside it was not found before 10 frames
+    // (now from 2; docs/pipeline.md). The surroundings' class keeps a dark floor dark, where
+    // all-white holes made random patterns that weak families (tag16h5, tag25h9) decoded.
     if (options.hole_class_block > 0)
-      classify_holes(filled_mask, options.hole_class_block, out.detect, out);
+      detail::classify_holes(filled_mask, options.hole_class_block, out.detect, out.hole_classes);
   }
   if (options.blur_sigma > 0) {
     cv::GaussianBlur(out.detect, out.detect, cv::Size(0, 0), options.blur_sigma);

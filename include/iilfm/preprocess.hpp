@@ -3,6 +3,7 @@
 // filling for the detector's image only, naive global threshold, optional Gaussian blur.
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
@@ -39,8 +40,16 @@ struct PreprocessOptions {
   int unobserved_value = 0;  // gray value of pixels still unobserved after filling
   // Binary image: a pixel still unobserved after filling takes the class (black or white) of most
   // observed pixels in its block of this many pixels square and the 8 blocks around, white when
-  // there is none; 0 gives every such pixel `unobserved_value` instead.
+  // there is none; 0 gives every such pixel `unobserved_value` instead. At most 64.
   int hole_class_block = 2;
+};
+
+// classify_holes' counts (src/hole_classes.hpp): per column, per block, each block with its left
+// and right ones for three bands of rows and a band of zeros, the class per block and per column.
+struct HoleClassBuffers {
+  std::vector<std::uint16_t> column_white, column_observed, block_white, block_observed;
+  std::vector<std::uint16_t> across_white, across_observed;
+  std::vector<std::uint8_t> block_class, hole_row;
 };
 
 // The detector's images. They share the projected image's geometry, or, with square pixels, have
@@ -59,11 +68,7 @@ struct PreprocessedImage {
     cv::Mat values, mask;
   };
   Buffers work[2];
-  // Hole classes: counts per column and per block, the class per band of rows and column.
-  std::vector<int> column_white, column_observed, block_white, block_observed;
-  std::vector<int> across_white, across_observed;  // each block with its left and right ones
-  std::vector<std::uint8_t> block_class;
-  cv::Mat hole_class;
+  HoleClassBuffers hole_classes;
   cv::Mat normalised;  // the normalised intensity (when normalisation is on)
   NormalisationBuffers normalise_work;
 };

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "iilfm/error.hpp"
 #include "iilfm/preprocess.hpp"
 
 namespace iilfm {
@@ -106,50 +108,60 @@ TEST(Preprocess, UnfillableHolesTakeTheClassOfTheirSurroundings) {
 }
 
 // Every hole against a direct count: the observed pixels of its block and the 8 around (blocks
-// at the image's edges cut short, odd sizes, two block sizes), majority white or nothing observed
-// gives white.
+// at the image's edges cut short, odd sizes, several block sizes up to the largest, one buffer
+// reused across sizes), majority white or nothing observed gives white.
 TEST(Preprocess, HoleClassesMatchADirectCountOfTheBlocksAround) {
+  constexpr int kRows = 137, kCols = 153;
   std::mt19937 rng(5);
   std::bernoulli_distribution seen(0.08), light(0.5);
   ProjectedImage img;
-  img.intensity = cv::Mat(37, 53, CV_32F, cv::Scalar(0));
-  img.mask = cv::Mat(37, 53, CV_8U, cv::Scalar(0));
-  img.range = cv::Mat(37, 53, CV_32F, cv::Scalar(2));
-  for (int r = 0; r < 37; ++r) {
-    for (int c = 0; c < 53; ++c) {
+  img.intensity = cv::Mat(kRows, kCols, CV_32F, cv::Scalar(0));
+  img.mask = cv::Mat(kRows, kCols, CV_8U, cv::Scalar(0));
+  img.range = cv::Mat(kRows, kCols, CV_32F, cv::Scalar(2));
+  for (int r = 0; r < kRows; ++r) {
+    for (int c = 0; c < kCols; ++c) {
       if (!seen(rng)) continue;
       img.mask.at<uchar>(r, c) = 255;
-      img.intensity.at<float>(r, c) = light(rng) ? 120.0f : 10.0f;
+      // Whiter on the right, so blocks of every class and ties occur.
+      img.intensity.at<float>(r, c) = light(rng) || c > 100 ? 120.0f : 10.0f;
     }
   }
-  for (const int block : {2, 3}) {
+  PreprocessedImage out;
+  for (const int block : {2, 3, 1, 5, 64, 2}) {
     PreprocessOptions opt;
     opt.threshold = 60;
     opt.hole_class_block = block;
-    PreprocessedImage out;
     preprocess(img, opt, out);
-    const int bh = (37 + block - 1) / block, bw = (53 + block - 1) / block;
+    // Counts of observed and of observed white pixels over any rectangle, from integral images.
+    cv::Mat observed_sum, white_sum;
+    cv::integral(out.valid / 255, observed_sum, CV_32S);
+    cv::integral((out.valid & out.detect) / 255, white_sum, CV_32S);  // observed: its own class
+    const auto sum = [](const cv::Mat& s, int y0, int x0, int y1, int x1) {
+      return s.at<int>(y1, x1) - s.at<int>(y0, x1) - s.at<int>(y1, x0) + s.at<int>(y0, x0);
+    };
     int holes = 0;
-    for (int r = 0; r < 37; ++r) {
-      for (int c = 0; c < 53; ++c) {
+    for (int r = 0; r < kRows; ++r) {
+      for (int c = 0; c < kCols; ++c) {
         if (out.valid.at<uchar>(r, c)) continue;
         ++holes;
-        int white = 0, observed = 0;
-        for (int br = std::max(0, r / block - 1); br <= std::min(bh - 1, r / block + 1); ++br)
-          for (int bc = std::max(0, c / block - 1); bc <= std::min(bw - 1, c / block + 1); ++bc)
-            for (int y = br * block; y < std::min(37, (br + 1) * block); ++y)
-              for (int x = bc * block; x < std::min(53, (bc + 1) * block); ++x) {
-                if (!out.valid.at<uchar>(y, x)) continue;
-                ++observed;
-                white += out.detect.at<uchar>(y, x) == 255;  // observed: its own class
-              }
+        // The rows and columns of the pixel's block and its neighbours, cut at the image's edges.
+        const int y0 = std::max(0, (r / block - 1) * block);
+        const int y1 = std::min(kRows, (r / block + 2) * block);
+        const int x0 = std::max(0, (c / block - 1) * block);
+        const int x1 = std::min(kCols, (c / block + 2) * block);
+        const int observed = sum(observed_sum, y0, x0, y1, x1);
+        const int white = sum(white_sum, y0, x0, y1, x1);
         const int expected = observed == 0 || 2 * white > observed ? 255 : 0;
         ASSERT_EQ(out.detect.at<uchar>(r, c), expected)
             << "block " << block << ", hole (" << r << ", " << c << ")";
       }
     }
-    EXPECT_GT(holes, 37 * 53 / 2) << "filling closed the gaps: the test checks too little";
+    EXPECT_GT(holes, kRows * kCols / 2) << "filling closed the gaps: the test checks too little";
   }
+  PreprocessOptions too_large;
+  too_large.threshold = 60;
+  too_large.hole_class_block = 65;
+  EXPECT_THROW(preprocess(img, too_large, out), InputError);
 }
 
 TEST(Preprocess, OtsuSplitsTheTwoLevels) {
