@@ -125,18 +125,24 @@ double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
   return std::max(1e-6, static_cast<double>(values[k]));
 }
 
-// Otsu's threshold over the observed gray values, returned in intensity units.
-double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask, double scale) {
+// Otsu's threshold over the observed gray values, returned in intensity units. A row that
+// repeats the one above (`repeats_row_above`) is counted with it: its row's count goes up by one.
+double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask,
+                      const std::vector<std::uint8_t>& repeats_row_above, double scale) {
   int histogram[256] = {};
   int total = 0;
-  for (int r = 0; r < gray.rows; ++r) {
+  for (int r = 0; r < gray.rows;) {
+    int copies = 1;
+    while (r + copies < gray.rows && repeats_row_above[static_cast<std::size_t>(r + copies)])
+      ++copies;
     const std::uint8_t* g = gray.ptr<std::uint8_t>(r);
     const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
     for (int c = 0; c < gray.cols; ++c)
       if (m[c]) {
-        ++histogram[g[c]];
-        ++total;
+        histogram[g[c]] += copies;
+        total += copies;
       }
+    r += copies;
   }
   double sum_all = 0;
   for (int i = 0; i < 256; ++i) sum_all += i * static_cast<double>(histogram[i]);
@@ -186,17 +192,22 @@ cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double glo
 }
 
 // 8-bit gray for display and for Otsu: intensity scaled so `scale` maps to 255; pixels still
-// unobserved get `unobserved`.
-IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid, double scale,
+// unobserved get `unobserved`. A row that repeats the one above is copied.
+IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid,
+                               const std::vector<std::uint8_t>& repeats_row_above, double scale,
                                int unobserved, cv::Mat& gray) {
   gray.create(filled.size(), CV_8U);
   const float factor = static_cast<float>(255.0 / scale);
   const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
   const int cols = filled.cols;  // a local: the byte stores below could alias the Mat's fields
   for (int r = 0; r < filled.rows; ++r) {
+    std::uint8_t* __restrict g = gray.ptr<std::uint8_t>(r);
+    if (repeats_row_above[static_cast<std::size_t>(r)]) {
+      std::memcpy(g, gray.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(cols));
+      continue;
+    }
     const float* __restrict v = filled.ptr<float>(r);
     const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
-    std::uint8_t* __restrict g = gray.ptr<std::uint8_t>(r);
     for (int c = 0; c < cols; ++c) {
       // max(0, level) takes 0 for a NaN (an overflowed sum): never an undefined cast.
       const float level = v[c] * factor + 0.5f;
@@ -209,17 +220,22 @@ IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid, doub
 }
 
 // The naive global threshold: 255 where brighter than `threshold`, 0 where not, `unobserved`
-// where no value is known.
-IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid, double threshold,
-                                int unobserved, cv::Mat& detect) {
+// where no value is known. A row that repeats the one above is copied.
+IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
+                                const std::vector<std::uint8_t>& repeats_row_above,
+                                double threshold, int unobserved, cv::Mat& detect) {
   detect.create(filled.size(), CV_8U);
   const float t = static_cast<float>(threshold);
   const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
   const int cols = filled.cols;
   for (int r = 0; r < filled.rows; ++r) {
+    std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
+    if (repeats_row_above[static_cast<std::size_t>(r)]) {
+      std::memcpy(d, detect.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(cols));
+      continue;
+    }
     const float* __restrict v = filled.ptr<float>(r);
     const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
-    std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
     for (int c = 0; c < cols; ++c) {
       const std::uint8_t level = v[c] > t ? 255 : 0;
       d[c] = static_cast<std::uint8_t>((level & m[c]) | (hole & ~m[c]));  // masks hold 0 or 255
@@ -249,21 +265,25 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   if (options.square_pixels && needs_square_pixels(image.geometry)) {
     out.geometry = square_pixel_geometry(image.geometry);
     PreprocessedImage::Buffers& into = out.work[values == &out.work[0].values ? 1 : 0];
-    resample_rows(*values, *mask, image.geometry, out.geometry, into.values, into.mask);
+    resample_rows(*values, *mask, image.geometry, out.geometry, into.values, into.mask,
+                  &out.repeats_row_above);
     values = &into.values;
     mask = &into.mask;
   } else {
     out.geometry = image.geometry;
+    out.repeats_row_above.assign(static_cast<std::size_t>(image.intensity.rows), 0);
   }
   const cv::Mat& filled = *values;
   const cv::Mat& filled_mask = *mask;
 
   filled_mask.copyTo(out.valid);
   out.intensity_scale = robust_max(*source, image.mask);
-  to_gray(filled, filled_mask, out.intensity_scale, options.unobserved_value, out.gray);
+  to_gray(filled, filled_mask, out.repeats_row_above, out.intensity_scale, options.unobserved_value,
+          out.gray);
 
   out.threshold = options.threshold ? *options.threshold
-                                    : otsu_threshold(out.gray, filled_mask, out.intensity_scale);
+                                    : otsu_threshold(out.gray, filled_mask, out.repeats_row_above,
+                                                     out.intensity_scale);
   if (!options.binarize) {
     out.gray.copyTo(out.detect);
   } else if (options.local_threshold) {
@@ -274,7 +294,8 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     out.detect.setTo(255, above & filled_mask);
     out.detect.setTo(options.unobserved_value, filled_mask == 0);
   } else {
-    binarize(filled, filled_mask, out.threshold, options.unobserved_value, out.detect);
+    binarize(filled, filled_mask, out.repeats_row_above, out.threshold, options.unobserved_value,
+             out.detect);
     // Holes take the class of their surroundings: a constant for all holes drew the gaps between
     // a sparse rosette's petals (a 10-frame Mid-40 image is 80 % unobserved away from its centre)
     // as thousands of black streaks on a white wall: no marker, but 3-5 times AprilTag's

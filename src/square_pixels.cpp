@@ -55,8 +55,10 @@ ImageGeometry square_pixel_geometry(const ImageGeometry& g) {
 }
 
 void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeometry& from,
-                   const ImageGeometry& to, cv::Mat& out_image, cv::Mat& out_valid) {
+                   const ImageGeometry& to, cv::Mat& out_image, cv::Mat& out_valid,
+                   std::vector<std::uint8_t>* repeats_row_above) {
   out_image.create(to.height, to.width, CV_32F);
+  if (repeats_row_above) repeats_row_above->assign(static_cast<std::size_t>(to.height), 0);
   out_valid.create(to.height, to.width, CV_8U);
   const int last = from.height - 1;
   int previous_near = -1, previous_far = -1;
@@ -71,6 +73,7 @@ void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeomet
     float* o = out_image.ptr<float>(r);
     std::uint8_t* vo = out_valid.ptr<std::uint8_t>(r);
     if (near == previous_near && far == previous_far) {  // most rows repeat the one above
+      if (repeats_row_above) (*repeats_row_above)[static_cast<std::size_t>(r)] = 1;
       std::memcpy(o, out_image.ptr<float>(r - 1),
                   sizeof(float) * static_cast<std::size_t>(to.width));
       std::memcpy(vo, out_valid.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(to.width));

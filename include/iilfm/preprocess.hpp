@@ -69,6 +69,9 @@ struct PreprocessedImage {
   };
   Buffers work[2];
   HoleClassBuffers hole_classes;
+  // Per row of the detector's images: 1 where it repeats the row above (square pixels copy most
+  // rows of a spinning LiDAR's image), so per-pixel passes copy it instead.
+  std::vector<std::uint8_t> repeats_row_above;
   cv::Mat normalised;  // the normalised intensity (when normalisation is on)
   NormalisationBuffers normalise_work;
 };

@@ -4,7 +4,9 @@
 // the projected image exactly, because both images are exact functions of azimuth and elevation.
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "iilfm/projection.hpp"
 
@@ -26,9 +28,12 @@ ImageGeometry square_pixel_geometry(const ImageGeometry& g);
 // valid one of them). Nearest, not linear: a black/white edge between two rings then lies exactly
 // half-way between them whatever the threshold, where interpolation would move it towards the
 // darker ring by the threshold's distance from mid-grey (measured on the ULTRA Puck ccw10m case:
-// LiDAR position error 3.5x smaller than with linear rows).
+// LiDAR position error 3.5x smaller than with linear rows). With `repeats_row_above`, also
+// says which output rows are copies of the one above (1) and which are not (0): most of them on a
+// spinning LiDAR, whose rings lie several square pixels apart.
 void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeometry& from,
-                   const ImageGeometry& to, cv::Mat& out_image, cv::Mat& out_valid);
+                   const ImageGeometry& to, cv::Mat& out_image, cv::Mat& out_valid,
+                   std::vector<std::uint8_t>* repeats_row_above = nullptr);
 
 // The continuous coordinates in `to` of the direction at `px` in `from`.
 inline Vec2 map_pixel(const Vec2& px, const ImageGeometry& from, const ImageGeometry& to) {

@@ -1,10 +1,14 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <vector>
 
 #include "iilfm/error.hpp"
 #include "iilfm/preprocess.hpp"
+#include "iilfm/square_pixels.hpp"
 
 namespace iilfm {
 namespace {
@@ -199,6 +203,89 @@ TEST(Preprocess, IntensityScaleComesFromTheImageAlone) {
   EXPECT_NEAR(out.intensity_scale, 120, 1e-3);
   preprocess(large, opt, out);
   EXPECT_NEAR(out.intensity_scale, 400, 1e-3);
+}
+
+// Otsu's threshold over every observed pixel of `gray`, in gray levels (t + 0.5 for the split
+// below and above level t): the textbook formula, for comparison.
+double otsu_of_every_pixel(const cv::Mat& gray, const cv::Mat& valid) {
+  std::vector<double> histogram(256, 0);
+  for (int r = 0; r < gray.rows; ++r)
+    for (int c = 0; c < gray.cols; ++c)
+      if (valid.at<uchar>(r, c)) histogram[gray.at<uchar>(r, c)] += 1;
+  double best = -1, best_t = 127.5;
+  for (int t = 0; t < 255; ++t) {
+    double below = 0, above = 0, sum_below = 0, sum_above = 0;
+    for (int i = 0; i < 256; ++i) {
+      (i <= t ? below : above) += histogram[i];
+      (i <= t ? sum_below : sum_above) += i * histogram[i];
+    }
+    if (below == 0 || above == 0) continue;
+    const double d = sum_below / below - sum_above / above;
+    if (below * above * d * d > best) {
+      best = below * above * d * d;
+      best_t = t + 0.5;
+    }
+  }
+  return best_t;
+}
+
+// A VLP-16 sweep's square-pixel image repeats most rows; preprocessing copies those rows and
+// counts them once per copy in Otsu's histogram. The images and the threshold must be those of
+// every row computed on its own.
+TEST(Preprocess, RowsRepeatedBySquarePixelsGiveWhatEveryRowComputedGives) {
+  constexpr double kDeg = M_PI / 180.0;
+  ProjectedImage img;
+  img.geometry = geometry_for_bounds({-0.6, 0.6, -15 * kDeg, 15 * kDeg}, 0.2 * kDeg, 2 * kDeg);
+  const int rows = img.geometry.height, cols = img.geometry.width;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> level(0, 200);
+  std::bernoulli_distribution seen(0.85);
+  img.intensity = cv::Mat(rows, cols, CV_32F, cv::Scalar(0));
+  img.mask = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
+  img.range = cv::Mat(rows, cols, CV_32F, cv::Scalar(4));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      if (!seen(rng)) continue;
+      img.mask.at<uchar>(r, c) = 255;
+      img.intensity.at<float>(r, c) = level(rng) + (c % 40 < 20 ? 0.0f : 60.0f);
+    }
+  PreprocessOptions opt;  // Otsu, square pixels
+  opt.fill_holes = false;
+  opt.hole_class_block = 0;  // unobserved pixels keep `unobserved_value`
+  PreprocessedImage out;
+  preprocess(img, opt, out);
+
+  const ImageGeometry square = square_pixel_geometry(img.geometry);
+  cv::Mat values, valid;
+  std::vector<std::uint8_t> repeats;
+  resample_rows(img.intensity, img.mask, img.geometry, square, values, valid, &repeats);
+  ASSERT_EQ(out.gray.size(), values.size());
+  int repeated = 0;
+  for (int r = 1; r < values.rows; ++r) {
+    if (!repeats[static_cast<std::size_t>(r)]) continue;
+    ++repeated;
+    ASSERT_EQ(cv::norm(values.row(r), values.row(r - 1), cv::NORM_INF), 0) << r;
+    ASSERT_EQ(cv::norm(valid.row(r), valid.row(r - 1), cv::NORM_INF), 0) << r;
+  }
+  EXPECT_GT(repeated, values.rows / 2) << "too few rows repeat: the test checks too little";
+
+  // Gray level = intensity x 255 / scale, rounded half up, clamped to 0..255.
+  const auto factor = static_cast<float>(255.0 / out.intensity_scale);
+  cv::Mat gray(values.size(), CV_8U, cv::Scalar(0));
+  for (int r = 0; r < values.rows; ++r)
+    for (int c = 0; c < values.cols; ++c)
+      if (valid.at<uchar>(r, c))
+        gray.at<uchar>(r, c) = static_cast<uchar>(
+            std::min(255.0f, std::max(0.0f, values.at<float>(r, c) * factor + 0.5f)));
+  EXPECT_EQ(cv::norm(out.gray, gray, cv::NORM_INF), 0);
+  EXPECT_DOUBLE_EQ(out.threshold, otsu_of_every_pixel(gray, valid) * out.intensity_scale / 255.0);
+  for (int r = 0; r < values.rows; ++r)
+    for (int c = 0; c < values.cols; ++c) {
+      const int expected = !valid.at<uchar>(r, c)                   ? 0
+                           : values.at<float>(r, c) > out.threshold ? 255
+                                                                    : 0;
+      ASSERT_EQ(out.detect.at<uchar>(r, c), expected) << r << ", " << c;
+    }
 }
 
 }  // namespace
