@@ -212,6 +212,54 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
   return ok ? static_cast<double>(agreeing) / fixed : -1;
 }
 
+MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
+                                                const CellCodeBook& book,
+                                                double central_fraction) const {
+  MarkerSamples out;
+  out.quad_ = quad_;
+  out.cell_height_ = cell_height_;
+  out.start_ = start_;
+  out.n_ = n_;
+  if (a_.empty()) return out;
+  constexpr double kRounding = 0.01;  // cells: far above the float rounding of the quad's shift
+  constexpr double kMostCells = 4;    // a longer track (a degenerate quad) keeps its sample
+  const int T = book.total_width();
+  const double half = 0.5 * central_fraction;
+  const cv::Matx33d ends[2] = {
+      shifted_tangent_to_cell(quad_, static_cast<float>(lowest * cell_height_),
+                              static_cast<float>(lowest * cell_height_), n_),
+      shifted_tangent_to_cell(quad_, static_cast<float>(highest * cell_height_),
+                              static_cast<float>(highest * cell_height_), n_)};
+  // Whether the middle of a fixed cell lies within [lo, hi] x [top, bottom] (print cells).
+  const auto meets_fixed_cell = [&](double lo, double hi, double top, double bottom) {
+    if (!(hi - lo < kMostCells && bottom - top < kMostCells)) return true;  // NaN too
+    const int c0 = std::max(0, static_cast<int>(std::floor(lo))),
+              c1 = std::min(T - 1, static_cast<int>(std::floor(hi)));
+    const int r0 = std::max(0, static_cast<int>(std::floor(top))),
+              r1 = std::min(T - 1, static_cast<int>(std::floor(bottom)));
+    for (int row = r0; row <= r1; ++row) {
+      if (row + 0.5 + half < top || row + 0.5 - half > bottom) continue;
+      for (int col = c0; col <= c1; ++col) {
+        if (col + 0.5 + half < lo || col + 0.5 - half > hi) continue;
+        if (book.cell_role(col, row) < 0) return true;
+      }
+    }
+    return false;
+  };
+  for (std::size_t i = 0; i < a_.size(); ++i) {
+    const cv::Point2d p = apply(ends[0], a_[i], b_[i]), q = apply(ends[1], a_[i], b_[i]);
+    const double lo = std::min(p.x, q.x) + start_ - kRounding,
+                 hi = std::max(p.x, q.x) + start_ + kRounding;
+    const double top = std::min(p.y, q.y) + start_ - kRounding,
+                 bottom = std::max(p.y, q.y) + start_ + kRounding;
+    if (!meets_fixed_cell(lo, hi, top, bottom)) continue;
+    out.a_.push_back(a_[i]);
+    out.b_.push_back(b_[i]);
+    out.intensity_.push_back(intensity_[i]);
+  }
+  return out;
+}
+
 CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,
                        const CellReadOptions& options) {
   const int T = book.total_width();

@@ -24,6 +24,7 @@ class MarkerSamples {
   // `corners_px`: the black square's corners in the projected image, in the canonical order
   // (top-left, top-right, bottom-right, bottom-left of the print as seen); `intensity`: CV_32F,
   // the projected image's size. Empty when the corners are degenerate.
+  MarkerSamples() = default;  // no samples
   MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
                 const cv::Mat& intensity, const CellCodeBook& book);
 
@@ -51,6 +52,16 @@ class MarkerSamples {
   };
   double fixed_agreement(double shift_top, double shift_bottom, const CellCodeBook& book,
                          const CellReadOptions& options, Scratch& scratch) const;
+
+  // The samples that can fall in the middle `central_fraction` of a fixed cell at some placing
+  // that moves the whole square by a shift in [lowest, highest] cells (shift_top == shift_bottom),
+  // in their order: fixed_agreement gives the same at those placings from them alone. Moving the
+  // quad moves a sample's place on the print along a straight segment (a homography maps the
+  // line it moves along in the tangent plane to a line), so the box of the segment's ends, widened
+  // by a hundredth of a cell for rounding, bounds every place it takes. Most samples lie in the
+  // data cells or outside the print at every such placing.
+  MarkerSamples fixed_cell_samples(double lowest, double highest, const CellCodeBook& book,
+                                   double central_fraction) const;
 
  private:
   // Tangent-plane coordinates (b grows downwards in the image) and intensity of each sample, in

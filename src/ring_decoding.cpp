@@ -57,8 +57,15 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
   const int outward = static_cast<int>(std::lround(grow / step));
   MarkerSamples::Scratch scratch;
+  // A detection's placings move the square as a whole: the search reads only the samples that
+  // can fall in a fixed cell at one of them (the same agreements from a fraction of the samples).
+  const MarkerSamples fixed_samples =
+      candidate ? MarkerSamples()
+                : samples.fixed_cell_samples(-outward * step, inward * step, book,
+                                             read_options.central_fraction);
+  const MarkerSamples& searched = candidate ? samples : fixed_samples;
   const auto agreement_at = [&](double t, double b) {
-    return samples.fixed_agreement(t, b, book, read_options, scratch);
+    return searched.fixed_agreement(t, b, book, read_options, scratch);
   };
   const int span = inward + outward + 1;
   // Placings to try: every one for a detection (b == t), for a candidate those near the best of

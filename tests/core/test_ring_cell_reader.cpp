@@ -2,8 +2,10 @@
 // spinning-LiDAR image of a tag on a wall.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bitset>
 #include <cmath>
+#include <tuple>
 
 #include "../../src/ring_cell_reader.hpp"
 #include "../../src/ring_decoding.hpp"
@@ -143,6 +145,41 @@ TEST(RingDecoder, FindsTheVerticalShiftOfCornersOffByHalfARing) {
   EXPECT_EQ((r.cells.bits.white ^ book->code(7, 0)) & r.cells.bits.known, 0u);
   EXPECT_GT(popcount(r.cells.bits.known), 0);
   EXPECT_LT(r.shift_top, 0);  // moved back up
+}
+
+// The samples kept for a detection's search give every whole-square shift in the range the
+// agreement all samples give, from far fewer samples: dense and sparse rings, corners off by
+// part of a pixel, the quad's corners listed from another one, two ranges and central fractions.
+TEST(MarkerSamples, FixedCellSamplesGiveTheAgreementOfAllSamples) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  const RingScene dense(42, 1.0, 2.0, 90, 0.4, 0.0), sparse(7, 1.0, 3.5, 16, 2.0, 0.05);
+  int placings = 0;
+  for (const RingScene* scene : {&dense, &sparse}) {
+    std::array<Vec2, 4> corners = scene->corners;
+    for (int variant = 0; variant < 2; ++variant) {
+      if (variant == 1) {  // off by part of a pixel, listed from the top-right corner
+        for (Vec2& c : corners) c += Vec2(0.3, -0.2);
+        std::rotate(corners.begin(), corners.begin() + 1, corners.end());
+      }
+      const MarkerSamples all(corners, scene->image, scene->image.intensity, *book);
+      ASSERT_FALSE(all.empty());
+      for (const auto& [reach, step, central] :
+           {std::tuple{0.6, 0.05, 0.6}, std::tuple{1.5, 0.1, 0.9}}) {
+        CellReadOptions options;
+        options.central_fraction = central;
+        const MarkerSamples kept = all.fixed_cell_samples(-reach, reach, *book, central);
+        EXPECT_LT(kept.size(), all.size() * 7 / 10) << "kept too many to gain anything";
+        MarkerSamples::Scratch scratch;
+        for (double shift = -reach; shift <= reach + 1e-9; shift += step) {
+          const double expected = all.fixed_agreement(shift, shift, *book, options, scratch);
+          EXPECT_EQ(kept.fixed_agreement(shift, shift, *book, options, scratch), expected)
+              << "shift " << shift << ", variant " << variant;
+          placings += expected >= 0 ? 1 : 0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(placings, 40) << "too few placings read: the test checks too little";
 }
 
 }  // namespace
