@@ -24,9 +24,15 @@ IILFM_AVX2_CLONES void count_band(const cv::Mat& valid, const cv::Mat& detect, i
                                   std::uint16_t* __restrict across_observed) {
   const int cols = detect.cols;
   const int end_row = std::min(detect.rows, first_row + block);
-  std::fill(column_white, column_white + cols, 0);
-  std::fill(column_observed, column_observed + cols, 0);
-  for (int r = first_row; r < end_row; ++r) {
+  {  // the band's first row sets the counts (a band always has one), the others add to them
+    const std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(first_row);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(first_row);
+    for (int c = 0; c < cols; ++c) {
+      column_observed[c] = static_cast<std::uint16_t>(m[c] & 1);
+      column_white[c] = static_cast<std::uint16_t>(m[c] & d[c] & 1);
+    }
+  }
+  for (int r = first_row + 1; r < end_row; ++r) {
     const std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
     const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
     for (int c = 0; c < cols; ++c) {
