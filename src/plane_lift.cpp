@@ -384,8 +384,8 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
     // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
     const double ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
     all = marker;
-    for (std::uint32_t i : ring)
-      if (std::abs(plane.normal.dot(points[i]) - plane.d) <= ring_band) all.push_back(i);
+    for (std::size_t j = 0; j < ring.size(); ++j)
+      if (offsets[j] <= ring_band) all.push_back(ring[j]);
     Plane wide = robust_plane(points, all, options, nullptr);
     if (!wide.ok) continue;
     // The normal from the wide fit; the offset from the marker's own points, so a sheet standing a
