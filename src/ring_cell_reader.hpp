@@ -21,10 +21,10 @@ struct CellReadOptions;
 // maps through a homography), so ring elevations and column azimuths enter exactly.
 class MarkerSamples {
  public:
+  MarkerSamples() = default;  // no samples
   // `corners_px`: the black square's corners in the projected image, in the canonical order
   // (top-left, top-right, bottom-right, bottom-left of the print as seen); `intensity`: CV_32F,
   // the projected image's size. Empty when the corners are degenerate.
-  MarkerSamples() = default;  // no samples
   MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
                 const cv::Mat& intensity, const CellCodeBook& book);
 
