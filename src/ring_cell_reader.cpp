@@ -163,6 +163,21 @@ IILFM_AVX2_CLONES void cells_of_samples(const cv::Matx33d& H, double start, int 
   }
 }
 
+// Where each sample falls on the print under the homography H (tangent plane to cells, offset by
+// `start`), in cells, as cells_of_samples places it; a loop that vectorises.
+IILFM_AVX2_CLONES void places_of_samples(const cv::Matx33d& H, double start,
+                                         const double* __restrict a, const double* __restrict b,
+                                         std::size_t n, double* __restrict x_out,
+                                         double* __restrict y_out) {
+  const double h00 = H(0, 0), h01 = H(0, 1), h02 = H(0, 2), h10 = H(1, 0), h11 = H(1, 1),
+               h12 = H(1, 2), h20 = H(2, 0), h21 = H(2, 1), h22 = H(2, 2);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double inverse_w = 1.0 / (h20 * a[i] + h21 * b[i] + h22);
+    x_out[i] = (h00 * a[i] + h01 * b[i] + h02) * inverse_w + start;
+    y_out[i] = (h10 * a[i] + h11 * b[i] + h12) * inverse_w + start;
+  }
+}
+
 }  // namespace
 
 double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
@@ -225,14 +240,25 @@ MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
   constexpr double kMostCells = 4;    // a longer track (a degenerate quad) keeps its sample
   const int T = book.total_width();
   const double half = 0.5 * central_fraction;
-  const cv::Matx33d ends[2] = {
-      shifted_tangent_to_cell(quad_, static_cast<float>(lowest * cell_height_),
-                              static_cast<float>(lowest * cell_height_), n_),
-      shifted_tangent_to_cell(quad_, static_cast<float>(highest * cell_height_),
-                              static_cast<float>(highest * cell_height_), n_)};
+  // Each sample's place at the two ends of the range.
+  const std::size_t n = a_.size();
+  thread_local std::vector<double> x0, y0, x1, y1;
+  x0.resize(n);
+  y0.resize(n);
+  x1.resize(n);
+  y1.resize(n);
+  for (const double shift : {lowest, highest}) {
+    const auto s = static_cast<float>(shift * cell_height_);
+    const bool first = shift == lowest;
+    places_of_samples(shifted_tangent_to_cell(quad_, s, s, n_), start_, a_.data(), b_.data(), n,
+                      (first ? x0 : x1).data(), (first ? y0 : y1).data());
+  }
   // Whether the middle of a fixed cell lies within [lo, hi] x [top, bottom] (print cells).
+  const double first_middle = 0.5 - half, last_middle = T - 0.5 + half;
   const auto meets_fixed_cell = [&](double lo, double hi, double top, double bottom) {
     if (!(hi - lo < kMostCells && bottom - top < kMostCells)) return true;  // NaN too
+    if (hi < first_middle || lo > last_middle || bottom < first_middle || top > last_middle)
+      return false;  // off the print's cells
     const int c0 = std::max(0, static_cast<int>(std::floor(lo))),
               c1 = std::min(T - 1, static_cast<int>(std::floor(hi)));
     const int r0 = std::max(0, static_cast<int>(std::floor(top))),
@@ -246,13 +272,13 @@ MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
     }
     return false;
   };
-  for (std::size_t i = 0; i < a_.size(); ++i) {
-    const cv::Point2d p = apply(ends[0], a_[i], b_[i]), q = apply(ends[1], a_[i], b_[i]);
-    const double lo = std::min(p.x, q.x) + start_ - kRounding,
-                 hi = std::max(p.x, q.x) + start_ + kRounding;
-    const double top = std::min(p.y, q.y) + start_ - kRounding,
-                 bottom = std::max(p.y, q.y) + start_ + kRounding;
-    if (!meets_fixed_cell(lo, hi, top, bottom)) continue;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool placed = std::isfinite(x0[i]) && std::isfinite(y0[i]) && std::isfinite(x1[i]) &&
+                        std::isfinite(y1[i]);
+    const double lo = std::min(x0[i], x1[i]) - kRounding, hi = std::max(x0[i], x1[i]) + kRounding;
+    const double top = std::min(y0[i], y1[i]) - kRounding,
+                 bottom = std::max(y0[i], y1[i]) + kRounding;
+    if (placed && !meets_fixed_cell(lo, hi, top, bottom)) continue;  // else kept: no bound
     out.a_.push_back(a_[i]);
     out.b_.push_back(b_[i]);
     out.intensity_.push_back(intensity_[i]);
