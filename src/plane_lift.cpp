@@ -94,8 +94,16 @@ Eigen::Vector2d jackknife_slope_variance(const detail::FitPoints& fit, const Pla
   thread_local std::vector<std::int32_t> patch;
   patch.resize(fit.size());
   detail::grid_patches(fit, plane.centre, plane.axis1, plane.axis2, extent, kGrid, patch.data());
-  for (std::size_t k = 0; k < fit.size(); ++k)
-    patches[static_cast<std::size_t>(patch[k])].add(Vec3(fit.x[k], fit.y[k], fit.z[k]));
+  // Points come row by row, so runs of them fall in one patch: each run is added to a copy of
+  // its patch's sums held in registers (the same additions in the same order), not through
+  // memory, where every add waited for the store of the one before.
+  for (std::size_t k = 0; k < fit.size();) {
+    Moments& sums = patches[static_cast<std::size_t>(patch[k])];
+    Moments run = sums;
+    const std::int32_t id = patch[k];
+    for (; k < fit.size() && patch[k] == id; ++k) run.add(Vec3(fit.x[k], fit.y[k], fit.z[k]));
+    sums = run;
+  }
   Moments total;
   total.ref = plane.centre;
   for (const Moments& patch : patches) total.merge(patch, 1);
