@@ -196,14 +196,26 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
   scratch.cell.resize(a_.size());
   cells_of_samples(H, start_, T, 0.5 * options.central_fraction, a_.data(), b_.data(), a_.size(),
                    scratch.cell.data());
-  for (std::size_t k = 0; k < a_.size(); ++k) {
+  // Samples come row by row, so runs of them fall in one cell: a run's sum is kept in a register
+  // (the same additions in order) rather than added through memory sample by sample.
+  const std::size_t n = a_.size();
+  for (std::size_t k = 0; k < n;) {
     const std::int32_t i = scratch.cell[k];
-    if (i < 0) continue;
-    const int role = book.cell_role(i);
-    if (role >= 0) continue;
-    scratch.sum[static_cast<std::size_t>(i)] += intensity_[k];
-    ++scratch.count[static_cast<std::size_t>(i)];
-    (role == CellCodeBook::kFixedBlack ? scratch.black : scratch.white).push_back(intensity_[k]);
+    const int role = i < 0 ? 0 : book.cell_role(i);
+    if (role >= 0) {  // off the print, off a cell's middle, or a data cell
+      ++k;
+      continue;
+    }
+    std::vector<float>& level = role == CellCodeBook::kFixedBlack ? scratch.black : scratch.white;
+    double sum = scratch.sum[static_cast<std::size_t>(i)];
+    int count = scratch.count[static_cast<std::size_t>(i)];
+    for (; k < n && scratch.cell[k] == i; ++k) {
+      sum += intensity_[k];
+      ++count;
+      level.push_back(intensity_[k]);
+    }
+    scratch.sum[static_cast<std::size_t>(i)] = sum;
+    scratch.count[static_cast<std::size_t>(i)] = count;
   }
   if (scratch.black.empty() || scratch.white.empty()) return -1;
   const double black = median(scratch.black), white = median(scratch.white);
