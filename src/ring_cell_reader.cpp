@@ -140,6 +140,28 @@ void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Pla
 
 namespace {
 
+// A homography H from the tangent plane to printed cells, offset by `start`: where a sample falls
+// on the print, in cells. Its coefficients in locals, so the loops using it vectorise.
+struct PrintPlacement {
+  double h00, h01, h02, h10, h11, h12, h20, h21, h22, start;
+  PrintPlacement(const cv::Matx33d& H, double start_cell)
+      : h00(H(0, 0)),
+        h01(H(0, 1)),
+        h02(H(0, 2)),
+        h10(H(1, 0)),
+        h11(H(1, 1)),
+        h12(H(1, 2)),
+        h20(H(2, 0)),
+        h21(H(2, 1)),
+        h22(H(2, 2)),
+        start(start_cell) {}
+  void at(double a, double b, double& x, double& y) const {
+    const double inverse_w = 1.0 / (h20 * a + h21 * b + h22);
+    x = (h00 * a + h01 * b + h02) * inverse_w + start;
+    y = (h10 * a + h11 * b + h12) * inverse_w + start;
+  }
+};
+
 // The printed cell each sample falls in under the homography H (tangent plane to cells, offset by
 // `start`), as read_cells places it: row * T + col, or -1 outside the T x T print or off the
 // middle `2 half` of its cell. No branches, so it vectorises; the search over placings runs it
@@ -147,13 +169,11 @@ namespace {
 IILFM_AVX2_CLONES void cells_of_samples(const cv::Matx33d& H, double start, int T, double half,
                                         const double* __restrict a, const double* __restrict b,
                                         std::size_t n, std::int32_t* __restrict cell) {
-  const double h00 = H(0, 0), h01 = H(0, 1), h02 = H(0, 2), h10 = H(1, 0), h11 = H(1, 1),
-               h12 = H(1, 2), h20 = H(2, 0), h21 = H(2, 1), h22 = H(2, 2);
+  const PrintPlacement placement(H, start);
   const double width = T;
   for (std::size_t i = 0; i < n; ++i) {
-    const double inverse_w = 1.0 / (h20 * a[i] + h21 * b[i] + h22);
-    const double x = (h00 * a[i] + h01 * b[i] + h02) * inverse_w + start;
-    const double y = (h10 * a[i] + h11 * b[i] + h12) * inverse_w + start;
+    double x, y;
+    placement.at(a[i], b[i], x, y);
     const bool inside = (x >= 0) & (y >= 0) & (x < width) & (y < width);  // false for NaN
     // Clamped before the conversion, which is undefined out of int's range (NaN gives 0).
     const double xc = std::min(std::max(0.0, x), width), yc = std::min(std::max(0.0, y), width);
@@ -169,13 +189,8 @@ IILFM_AVX2_CLONES void places_of_samples(const cv::Matx33d& H, double start,
                                          const double* __restrict a, const double* __restrict b,
                                          std::size_t n, double* __restrict x_out,
                                          double* __restrict y_out) {
-  const double h00 = H(0, 0), h01 = H(0, 1), h02 = H(0, 2), h10 = H(1, 0), h11 = H(1, 1),
-               h12 = H(1, 2), h20 = H(2, 0), h21 = H(2, 1), h22 = H(2, 2);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double inverse_w = 1.0 / (h20 * a[i] + h21 * b[i] + h22);
-    x_out[i] = (h00 * a[i] + h01 * b[i] + h02) * inverse_w + start;
-    y_out[i] = (h10 * a[i] + h11 * b[i] + h12) * inverse_w + start;
-  }
+  const PrintPlacement placement(H, start);
+  for (std::size_t i = 0; i < n; ++i) placement.at(a[i], b[i], x_out[i], y_out[i]);
 }
 
 }  // namespace
@@ -252,18 +267,18 @@ MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
   constexpr double kMostCells = 4;    // a longer track (a degenerate quad) keeps its sample
   const int T = book.total_width();
   const double half = 0.5 * central_fraction;
-  // Each sample's place at the two ends of the range.
+  // Each sample's place at the two ends of the range (the same end twice for an empty range).
   const std::size_t n = a_.size();
   thread_local std::vector<double> x0, y0, x1, y1;
-  x0.resize(n);
-  y0.resize(n);
-  x1.resize(n);
-  y1.resize(n);
-  for (const double shift : {lowest, highest}) {
-    const auto s = static_cast<float>(shift * cell_height_);
-    const bool first = shift == lowest;
+  const double shifts[2] = {lowest, highest};
+  std::vector<double>* xs[2] = {&x0, &x1};
+  std::vector<double>* ys[2] = {&y0, &y1};
+  for (int end = 0; end < 2; ++end) {
+    xs[end]->resize(n);
+    ys[end]->resize(n);
+    const auto s = static_cast<float>(shifts[end] * cell_height_);
     places_of_samples(shifted_tangent_to_cell(quad_, s, s, n_), start_, a_.data(), b_.data(), n,
-                      (first ? x0 : x1).data(), (first ? y0 : y1).data());
+                      xs[end]->data(), ys[end]->data());
   }
   // Whether the middle of a fixed cell lies within [lo, hi] x [top, bottom] (print cells).
   const double first_middle = 0.5 - half, last_middle = T - 0.5 + half;

@@ -149,7 +149,8 @@ TEST(RingDecoder, FindsTheVerticalShiftOfCornersOffByHalfARing) {
 
 // The samples kept for a detection's search give every whole-square shift in the range the
 // agreement all samples give, from far fewer samples: dense and sparse rings, corners off by
-// part of a pixel, the quad's corners listed from another one, two ranges and central fractions.
+// part of a pixel, the quad's corners listed from another one, three ranges (one of a single
+// shift) and two central fractions.
 TEST(MarkerSamples, FixedCellSamplesGiveTheAgreementOfAllSamples) {
   const auto book = CellCodeBook::for_family("apriltag:tag36h11");
   const RingScene dense(42, 1.0, 2.0, 90, 0.4, 0.0), sparse(7, 1.0, 3.5, 16, 2.0, 0.05);
@@ -164,7 +165,7 @@ TEST(MarkerSamples, FixedCellSamplesGiveTheAgreementOfAllSamples) {
       const MarkerSamples all(corners, scene->image, scene->image.intensity, *book);
       ASSERT_FALSE(all.empty());
       for (const auto& [reach, step, central] :
-           {std::tuple{0.6, 0.05, 0.6}, std::tuple{1.5, 0.1, 0.9}}) {
+           {std::tuple{0.6, 0.05, 0.6}, std::tuple{1.5, 0.1, 0.9}, std::tuple{0.0, 0.1, 0.6}}) {
         CellReadOptions options;
         options.central_fraction = central;
         const MarkerSamples kept = all.fixed_cell_samples(-reach, reach, *book, central);
