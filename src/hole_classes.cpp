@@ -142,15 +142,23 @@ void classify_holes(const cv::Mat& valid, int block, cv::Mat& detect, HoleClassB
     const int s = band < 0 || band >= bh ? 3 : band % 3;
     return v.data() + static_cast<std::size_t>(s) * width;
   };
+  // Which bands hold a hole: only those are written, and only they and their neighbours counted
+  // (a band without one is left as it is; on spinning LiDARs most are, measured: 106 of 178 rows
+  // of a ULTRA Puck image).
+  buffers.band_has_hole.assign(static_cast<std::size_t>(bh) + 2, 0);
+  std::uint8_t* const has_hole = buffers.band_has_hole.data() + 1;  // [-1] and [bh] stay 0
+  for (int r = 0; r < rows; ++r)
+    if (std::memchr(valid.ptr<std::uint8_t>(r), 0, static_cast<std::size_t>(cols)))
+      has_hole[r / block] = 1;
   // Band b is counted, then band b - 1 written, while its rows are still in cache.
   for (int band = 0; band <= bh; ++band) {
-    if (band < bh)
+    if (band < bh && (has_hole[band - 1] | has_hole[band] | has_hole[band + 1]))
       count_band(valid, detect, band * block, block, bw, buffers.column_white.data(),
                  buffers.column_observed.data(), buffers.block_white.data(),
                  buffers.block_observed.data(), slot(buffers.across_white, band),
                  slot(buffers.across_observed, band));
     const int done = band - 1;
-    if (done < 0) continue;
+    if (done < 0 || !has_hole[done]) continue;
     write_band(valid, detect, done * block, block, bw, slot(buffers.across_white, done - 1),
                slot(buffers.across_white, done), slot(buffers.across_white, done + 1),
                slot(buffers.across_observed, done - 1), slot(buffers.across_observed, done),

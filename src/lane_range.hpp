@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 
 namespace iilfm::detail {
 
@@ -16,10 +17,15 @@ struct LaneRange {
     std::fill(lo, lo + L, lo_start);
     std::fill(hi, hi + L, hi_start);
   }
-  // Takes `v` into lane j when `take` (a select, not a branch).
+  // Takes `v` into lane j when `take`. A skipped value becomes an infinity that changes nothing,
+  // so every lane is written on every call: written as a conditional store, GCC vectorised it
+  // with masked stores and reloads through the stack (store forwarding failed on each, 8x slower).
+  // A NaN never wins, as before.
   void add(std::size_t j, T v, bool take = true) {
-    lo[j] = take && v < lo[j] ? v : lo[j];
-    hi[j] = take && v > hi[j] ? v : hi[j];
+    constexpr T kInf = std::numeric_limits<T>::infinity();
+    const T low = take ? v : kInf, high = take ? v : -kInf;
+    lo[j] = low < lo[j] ? low : lo[j];
+    hi[j] = high > hi[j] ? high : hi[j];
   }
   T min() const { return *std::min_element(lo, lo + L); }
   T max() const { return *std::max_element(hi, hi + L); }

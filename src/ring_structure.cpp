@@ -43,24 +43,31 @@ std::vector<double> ring_bands(const std::vector<double>& elevation) {
 }
 
 // Each ring's mean elevation over the points within 0.5 deg of its first mean (drops stray
-// returns), from every `stride`-th point; `near` counts the points it used.
+// returns), from every `stride`-th point; `near` counts the points it used. Counts are integers
+// (a double count added 1 at a time was a 4-cycle chain per point), sums per ring in point order.
 void ring_means(const PointView& cloud, const float* elevation, std::size_t stride,
-                std::vector<double>& mean, std::vector<double>& near) {
+                std::vector<double>& mean, std::vector<std::uint32_t>& near) {
   const std::size_t n = cloud.size(), ring_ids = mean.size();
-  std::vector<double> sum(ring_ids, 0), count(ring_ids, 0);
+  const StridedColumn<std::uint16_t> ring = cloud.ring;
+  std::vector<double> sum(ring_ids, 0);
+  std::vector<std::uint32_t> count(ring_ids, 0);
+  double* const sums = sum.data();
+  std::uint32_t* const counts = count.data();
   for (std::size_t i = 0; i < n; i += stride) {
     if (!std::isfinite(elevation[i])) continue;
-    sum[cloud.ring[i]] += elevation[i];
-    count[cloud.ring[i]] += 1;
+    sums[ring[i]] += elevation[i];
+    counts[ring[i]] += 1;
   }
   for (std::size_t r = 0; r < ring_ids; ++r) mean[r] = count[r] > 0 ? sum[r] / count[r] : 0;
   std::fill(sum.begin(), sum.end(), 0);
   std::fill(near.begin(), near.end(), 0);
+  const double* const means = mean.data();
+  std::uint32_t* const nears = near.data();
   for (std::size_t i = 0; i < n; i += stride) {
-    const std::uint16_t r = cloud.ring[i];
-    if (!(std::fabs(elevation[i] - mean[r]) <= 0.5 * kDeg)) continue;  // NaN too
-    sum[r] += elevation[i];
-    near[r] += 1;
+    const std::uint16_t r = ring[i];
+    if (!(std::fabs(elevation[i] - means[r]) <= 0.5 * kDeg)) continue;  // NaN too
+    sums[r] += elevation[i];
+    nears[r] += 1;
   }
   for (std::size_t r = 0; r < ring_ids; ++r)
     if (near[r] > 0) mean[r] = sum[r] / near[r];
@@ -85,7 +92,8 @@ std::optional<RingStructure> rings_from_field(const PointView& cloud, const floa
   // A ring is kept with 3 points near its mean. From a sample, unless the sample leaves a ring
   // that has 3 points in the cloud with fewer: then from every point, so sampling never drops a
   // sparse ring (one that sees little) that the whole cloud keeps.
-  std::vector<double> mean(ring_ids, 0), near(ring_ids, 0);
+  std::vector<double> mean(ring_ids, 0);
+  std::vector<std::uint32_t> near(ring_ids, 0);
   ring_means(cloud, elevation, stride, mean, near);
   if (stride > 1) {
     std::vector<std::uint32_t> points(ring_ids, 0);
@@ -114,14 +122,17 @@ std::optional<RingStructure> rings_from_field(const PointView& cloud, const floa
 
   // Cones of constant elevation: nearly every point lies close to its ring's elevation.
   const std::vector<double> band = ring_bands(rings.elevation);
-  double inside = 0, total = 0;
+  const std::int32_t* const row_of_ring = rings.row_of_ring.data();
+  const double* const ring_elevation = rings.elevation.data();
+  std::size_t inside = 0, total = 0;
   for (std::size_t i = 0; i < n; i += stride) {
     if (!std::isfinite(elevation[i])) continue;
     total += 1;
-    const std::int32_t row = rings.row_of_ring[cloud.ring[i]];
-    if (row >= 0 && std::fabs(elevation[i] - rings.elevation[row]) <= band[row]) inside += 1;
+    const std::int32_t row = row_of_ring[cloud.ring[i]];
+    inside += row >= 0 && std::fabs(elevation[i] - ring_elevation[row]) <= band[row] ? 1 : 0;
   }
-  if (total == 0 || inside < 0.9 * total) return std::nullopt;
+  if (total == 0 || static_cast<double>(inside) < 0.9 * static_cast<double>(total))
+    return std::nullopt;
   return rings;
 }
 

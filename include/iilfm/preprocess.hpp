@@ -49,7 +49,7 @@ struct PreprocessOptions {
 struct HoleClassBuffers {
   std::vector<std::uint16_t> column_white, column_observed, block_white, block_observed;
   std::vector<std::uint16_t> across_white, across_observed;
-  std::vector<std::uint8_t> block_class, hole_row;
+  std::vector<std::uint8_t> block_class, hole_row, band_has_hole;
 };
 
 // The detector's images. They share the projected image's geometry, or, with square pixels, have
