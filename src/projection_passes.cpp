@@ -52,4 +52,30 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g, std::int3
   return outside;
 }
 
+IILFM_AVX2_CLONES void ring_pixels_of_points(
+    const ImageGeometry& g, std::int32_t row_stride, const std::int32_t* __restrict row_of_ring,
+    std::size_t ring_ids, const std::uint16_t* __restrict ring, const float* __restrict azimuth,
+    const float* __restrict range, std::size_t n, std::int32_t* __restrict pixel,
+    float* __restrict offset) {
+  const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / g.res_h);
+  const std::int32_t width = g.width;
+  const float u_end = static_cast<float>(width) - 0.5f, width_f = static_cast<float>(width);
+  const auto last_ring = static_cast<std::int32_t>(ring_ids) - 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float u = u0 - azimuth[i] * inv_res_h;
+    // As pixels_of_points: truncating u + 0.5 rounds to nearest inside the image, the clamp
+    // (NaN to 0) keeps the conversion defined. Clamped to the width, not below it, so a sum
+    // that rounds up to it still falls outside.
+    const auto col = static_cast<std::int32_t>(std::min(width_f, std::max(0.0f, u + 0.5f)));
+    // A ring beyond the table reads its last entry and is then dropped (a clamp, not a branch).
+    const std::int32_t id = ring[i];
+    const std::int32_t row = row_of_ring[std::min(id, last_ring)];
+    const bool in = (range[i] > 0) & (u >= -0.5f) & (u < u_end) & (col < width) &
+                    (id <= last_ring) & (row >= 0);
+    const float du = u - static_cast<float>(col);
+    pixel[i] = in ? row * row_stride + col : -1;
+    offset[i] = du * du;
+  }
+}
+
 }  // namespace iilfm::detail

@@ -234,5 +234,54 @@ TEST(SphericalProjector, ThreadsGiveTheImagesOfOneThread) {
   }
 }
 
+TEST(SphericalProjector, ARingFieldInAnyLayoutGivesTheSameImages) {
+  // A contiguous ring field takes the vectorised pass, a strided one (a numpy record array) the
+  // scalar loop: the same pixels for every point, including points on the seam's two edges,
+  // rings with too few points for a row, NaN and zero points.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> az(-M_PI, M_PI), r(1, 40), jitter(-0.05, 0.05);
+  std::uniform_int_distribution<int> ring_of(0, 31);
+  PointCloud cloud;
+  const auto add = [&](double a, double e, double d, int ring) {
+    cloud.push_back(d * std::cos(e) * std::cos(a), d * std::cos(e) * std::sin(a), d * std::sin(e),
+                    static_cast<float>(d));
+    cloud.ring.push_back(static_cast<std::uint16_t>(ring));
+  };
+  for (int i = 0; i < 30000; ++i) {
+    const int ring = ring_of(rng);
+    add(az(rng), (ring - 15.5) * 1.0 * kDeg + jitter(rng) * kDeg, r(rng), ring);
+  }
+  for (double a : {M_PI, -M_PI, std::nextafter(M_PI, 0.0), 0.0}) add(a, 0.5 * kDeg, 5, 16);
+  add(0.3, 40 * kDeg, 5, 40);  // a ring seen twice: no row
+  add(0.4, 41 * kDeg, 5, 40);
+  add(0.5, 2 * kDeg, 5, 1000);  // a lone ring far past the others: no row
+  cloud.push_back(std::nanf(""), 1, 1, 5);
+  cloud.ring.push_back(3);
+  cloud.push_back(0, 0, 0, 5);
+  cloud.ring.push_back(3);
+
+  // The same points with the ring field every other entry of a larger array.
+  std::vector<std::uint16_t> interleaved(2 * cloud.size(), 7);
+  for (std::size_t i = 0; i < cloud.size(); ++i) interleaved[2 * i] = cloud.ring[i];
+  PointView strided(cloud);
+  strided.ring = StridedColumn<std::uint16_t>{interleaved.data(), 2};
+
+  for (bool preset_view : {false, true}) {
+    ProjectionOptions opt;
+    opt.res_h_deg = 0.2;
+    opt.res_v_deg = 1.0;
+    opt.rows = RowLayout::kRings;
+    if (preset_view) opt.field_of_view = AngularBounds{-M_PI, M_PI, -45 * kDeg, 45 * kDeg};
+    ProjectedImage fast, scalar;
+    SphericalProjector(opt).project(cloud, fast);
+    SphericalProjector(opt).project(strided, scalar);
+    EXPECT_EQ(fast.row_source, "ring field");
+    expect_same_images(fast, scalar, preset_view ? "preset field of view" : "cloud's extent");
+    EXPECT_EQ(fast.geometry.height, 32);
+    // Every point is binned but the NaN and zero ones and the three without a row.
+    EXPECT_EQ(fast.points_projected, cloud.size() - 5);
+  }
+}
+
 }  // namespace
 }  // namespace iilfm
