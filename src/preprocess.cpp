@@ -276,7 +276,9 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   const cv::Mat& filled = *values;
   const cv::Mat& filled_mask = *mask;
 
-  filled_mask.copyTo(out.valid);
+  // A header onto the last pass's mask, not a copy: nothing writes that buffer again before the
+  // next frame, which rewrites `out` whole anyway (a copy cost 0.02 ms on a Mid-40 image).
+  out.valid = filled_mask;
   out.intensity_scale = robust_max(*source, image.mask);
   to_gray(filled, filled_mask, out.repeats_row_above, out.intensity_scale, options.unobserved_value,
           out.gray);
