@@ -8,6 +8,7 @@
 #include <limits>
 #include <opencv2/aruco/dictionary.hpp>
 
+#include "cpu_clones.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/aruco_dictionaries.hpp"
 #include "iilfm/detector.hpp"
@@ -128,8 +129,9 @@ CellCodeBook::CellCodeBook(int total_width, int border_width, std::vector<int> r
   }
 }
 
-DecodeResult decode_cells(const CellCodeBook& book, const BitReading& reading,
-                          const DecodeLimits& limits, int hypotheses) {
+// Compares the reading with all 4 turns of every code, twice (thousands of bit counts).
+IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const BitReading& reading,
+                                              const DecodeLimits& limits, int hypotheses) {
   DecodeResult best;
   const int known = popcount(reading.known);
   best.erasures = book.bits() - known;

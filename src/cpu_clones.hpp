@@ -14,6 +14,10 @@
 
 #if !defined(IILFM_NO_CLONES) && defined(__GNUC__) && defined(__x86_64__)
 #define IILFM_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+// For bit counting: the x86-64 baseline has no POPCNT instruction, and GCC calls libgcc for
+// every count there.
+#define IILFM_POPCNT_CLONES __attribute__((target_clones("popcnt", "default")))
 #else
 #define IILFM_AVX2_CLONES
+#define IILFM_POPCNT_CLONES
 #endif
