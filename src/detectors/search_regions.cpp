@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
 
+#include "../banded_contours.hpp"
+
 namespace iilfm::detail {
 
 namespace {
@@ -95,8 +97,8 @@ std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRu
     return whole;
   thread_local std::vector<std::vector<cv::Point>> contours;
   thread_local std::vector<cv::Point> polygon;
-  contours.clear();
-  cv::findContours(binary, contours, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE);
+  // Those spanning the width touch the image's edges: could_be_quad drops them anyway.
+  contours_narrower_than_image(binary, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE, contours);
   std::vector<cv::Rect> boxes;
   for (const std::vector<cv::Point>& contour : contours) {
     const cv::Rect box = cv::boundingRect(contour);
