@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace iilfm {
@@ -42,27 +43,55 @@ std::vector<double> ring_bands(const std::vector<double>& elevation) {
   return band;
 }
 
-// Each ring's mean elevation over the points within 0.5 deg of its first mean (drops stray
-// returns), from every `stride`-th point; `near` counts the points it used. Counts are integers
-// (a double count added 1 at a time was a 4-cycle chain per point), sums per ring in point order.
+// Per ring id, from every `stride`-th point: the mean elevation over the points within 0.5 deg of
+// the first mean (drops stray returns), how many points that used (`near`), and the finite
+// elevations' count and extremes. Counts are integers (a double count added 1 at a time was a
+// 4-cycle chain per point), sums per ring in point order.
+struct RingMeans {
+  std::vector<double> mean;
+  std::vector<std::uint32_t> near, finite;
+  std::vector<float> lo, hi;
+  std::size_t stride = 0;
+};
+
 void ring_means(const PointView& cloud, const float* elevation, std::size_t stride,
-                std::vector<double>& mean, std::vector<std::uint32_t>& near) {
-  const std::size_t n = cloud.size(), ring_ids = mean.size();
+                RingMeans& out) {
+  const std::size_t n = cloud.size(), ring_ids = out.mean.size();
   const StridedColumn<std::uint16_t> ring = cloud.ring;
+  out.stride = stride;
   std::vector<double> sum(ring_ids, 0);
-  std::vector<std::uint32_t> count(ring_ids, 0);
+  out.finite.assign(ring_ids, 0);
+  out.lo.assign(ring_ids, std::numeric_limits<float>::infinity());
+  out.hi.assign(ring_ids, -std::numeric_limits<float>::infinity());
   double* const sums = sum.data();
-  std::uint32_t* const counts = count.data();
+  std::uint32_t* const counts = out.finite.data();
+  float* const lo = out.lo.data();
+  float* const hi = out.hi.data();
   for (std::size_t i = 0; i < n; i += stride) {
-    if (!std::isfinite(elevation[i])) continue;
-    sums[ring[i]] += elevation[i];
-    counts[ring[i]] += 1;
+    const float e = elevation[i];
+    if (!std::isfinite(e)) continue;
+    const std::uint16_t r = ring[i];
+    sums[r] += e;
+    counts[r] += 1;
+    lo[r] = std::min(lo[r], e);
+    hi[r] = std::max(hi[r], e);
   }
-  for (std::size_t r = 0; r < ring_ids; ++r) mean[r] = count[r] > 0 ? sum[r] / count[r] : 0;
+  std::vector<double>& mean = out.mean;
+  bool all_near = true;  // every point within 0.5 deg: the second mean is the first, exactly
+  for (std::size_t r = 0; r < ring_ids; ++r) {
+    mean[r] = counts[r] > 0 ? sum[r] / counts[r] : 0;
+    // |e - mean| grows towards the extremes (rounding keeps the order): they decide for all.
+    all_near &= counts[r] == 0 || (std::fabs(lo[r] - mean[r]) <= 0.5 * kDeg &&
+                                   std::fabs(hi[r] - mean[r]) <= 0.5 * kDeg);
+  }
+  if (all_near) {
+    out.near = out.finite;
+    return;
+  }
   std::fill(sum.begin(), sum.end(), 0);
-  std::fill(near.begin(), near.end(), 0);
+  out.near.assign(ring_ids, 0);
   const double* const means = mean.data();
-  std::uint32_t* const nears = near.data();
+  std::uint32_t* const nears = out.near.data();
   for (std::size_t i = 0; i < n; i += stride) {
     const std::uint16_t r = ring[i];
     if (!(std::fabs(elevation[i] - means[r]) <= 0.5 * kDeg)) continue;  // NaN too
@@ -70,7 +99,39 @@ void ring_means(const PointView& cloud, const float* elevation, std::size_t stri
     nears[r] += 1;
   }
   for (std::size_t r = 0; r < ring_ids; ++r)
-    if (near[r] > 0) mean[r] = sum[r] / near[r];
+    if (nears[r] > 0) mean[r] = sum[r] / nears[r];
+}
+
+// How many of every `stride`-th point with a finite elevation there are, and how many lie within
+// its ring's band. From the rings' extremes when they were taken at that stride and each lies in
+// its band (then so does every point between); otherwise point by point.
+std::pair<std::size_t, std::size_t> inside_and_total(const PointView& cloud, const float* elevation,
+                                                     std::size_t stride, const RingStructure& rings,
+                                                     const std::vector<double>& band,
+                                                     const RingMeans& means) {
+  const std::int32_t* const row_of_ring = rings.row_of_ring.data();
+  const double* const ring_elevation = rings.elevation.data();
+  const auto in_band = [&](float e, std::int32_t row) {
+    return std::fabs(e - ring_elevation[row]) <= band[static_cast<std::size_t>(row)];
+  };
+  std::size_t inside = 0, total = 0;
+  bool extremes_decide = means.stride == stride;
+  for (std::size_t r = 0; r < means.finite.size() && extremes_decide; ++r) {
+    const std::int32_t row = row_of_ring[r];
+    total += means.finite[r];
+    if (row < 0 || means.finite[r] == 0) continue;  // a ring without a row: all outside
+    extremes_decide = in_band(means.lo[r], row) && in_band(means.hi[r], row);
+    inside += means.finite[r];
+  }
+  if (extremes_decide) return {inside, total};
+  inside = total = 0;
+  for (std::size_t i = 0; i < cloud.size(); i += stride) {
+    if (!std::isfinite(elevation[i])) continue;
+    total += 1;
+    const std::int32_t row = row_of_ring[cloud.ring[i]];
+    inside += row >= 0 && in_band(elevation[i], row) ? 1 : 0;
+  }
+  return {inside, total};
 }
 
 }  // namespace
@@ -92,16 +153,18 @@ std::optional<RingStructure> rings_from_field(const PointView& cloud, const floa
   // A ring is kept with 3 points near its mean. From a sample, unless the sample leaves a ring
   // that has 3 points in the cloud with fewer: then from every point, so sampling never drops a
   // sparse ring (one that sees little) that the whole cloud keeps.
-  std::vector<double> mean(ring_ids, 0);
-  std::vector<std::uint32_t> near(ring_ids, 0);
-  ring_means(cloud, elevation, stride, mean, near);
+  RingMeans means;
+  means.mean.assign(ring_ids, 0);
+  ring_means(cloud, elevation, stride, means);
   if (stride > 1) {
     std::vector<std::uint32_t> points(ring_ids, 0);
     for (std::size_t i = 0; i < n; ++i) ++points[cloud.ring[i]];
     bool sparse_ring = false;
-    for (std::size_t r = 0; r < ring_ids; ++r) sparse_ring |= points[r] >= 3 && near[r] < 3;
-    if (sparse_ring) ring_means(cloud, elevation, 1, mean, near);
+    for (std::size_t r = 0; r < ring_ids; ++r) sparse_ring |= points[r] >= 3 && means.near[r] < 3;
+    if (sparse_ring) ring_means(cloud, elevation, 1, means);
   }
+  const std::vector<double>& mean = means.mean;
+  const std::vector<std::uint32_t>& near = means.near;
 
   std::vector<std::uint16_t> kept;
   for (std::size_t r = 0; r < ring_ids; ++r)
@@ -122,15 +185,7 @@ std::optional<RingStructure> rings_from_field(const PointView& cloud, const floa
 
   // Cones of constant elevation: nearly every point lies close to its ring's elevation.
   const std::vector<double> band = ring_bands(rings.elevation);
-  const std::int32_t* const row_of_ring = rings.row_of_ring.data();
-  const double* const ring_elevation = rings.elevation.data();
-  std::size_t inside = 0, total = 0;
-  for (std::size_t i = 0; i < n; i += stride) {
-    if (!std::isfinite(elevation[i])) continue;
-    total += 1;
-    const std::int32_t row = row_of_ring[cloud.ring[i]];
-    inside += row >= 0 && std::fabs(elevation[i] - ring_elevation[row]) <= band[row] ? 1 : 0;
-  }
+  const auto [inside, total] = inside_and_total(cloud, elevation, stride, rings, band, means);
   if (total == 0 || static_cast<double>(inside) < 0.9 * static_cast<double>(total))
     return std::nullopt;
   return rings;

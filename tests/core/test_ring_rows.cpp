@@ -2,7 +2,10 @@
 // geometry and its exact inverse, ring-aware projection, and the square-pixel mapping.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <optional>
 #include <random>
 
 #include "iilfm/projection.hpp"
@@ -94,6 +97,119 @@ TEST(RingStructure, EveryRingOfALargeColumnMajorSweepIsFound) {
     EXPECT_NEAR(rings->elevation[static_cast<std::size_t>(row)], el[static_cast<std::size_t>(ring)],
                 1e-6);
   }
+}
+
+// rings_from_field as its header defines it, point by point: each ring's mean over its finite
+// elevations, again over those within 0.5 deg of that mean (3 needed), rows by falling elevation,
+// and 90 % of the points within a quarter of the gap to the nearer neighbouring ring. Points are
+// sampled as the library samples them (every `stride`-th, every point for a sparse ring).
+std::optional<RingStructure> rings_by_definition(const PointCloud& cloud, const float* el) {
+  const std::size_t n = cloud.size();
+  std::size_t ids = 0;
+  for (std::uint16_t r : cloud.ring) ids = std::max<std::size_t>(ids, r + 1u);
+  std::size_t stride = (n + 32767) / 32768;
+  if (stride > 1)
+    while (std::gcd(stride, 210 * ids) != 1) ++stride;
+  std::vector<double> mean(ids);
+  std::vector<int> near(ids);
+  const auto means = [&](std::size_t step) {
+    std::vector<double> sum(ids, 0);
+    std::vector<int> count(ids, 0);
+    for (std::size_t i = 0; i < n; i += step)
+      if (std::isfinite(el[i])) sum[cloud.ring[i]] += el[i], ++count[cloud.ring[i]];
+    for (std::size_t r = 0; r < ids; ++r) mean[r] = count[r] ? sum[r] / count[r] : 0;
+    std::fill(sum.begin(), sum.end(), 0);
+    std::fill(near.begin(), near.end(), 0);
+    for (std::size_t i = 0; i < n; i += step)
+      if (std::fabs(el[i] - mean[cloud.ring[i]]) <= 0.5 * kDeg)
+        sum[cloud.ring[i]] += el[i], ++near[cloud.ring[i]];
+    for (std::size_t r = 0; r < ids; ++r)
+      if (near[r]) mean[r] = sum[r] / near[r];
+  };
+  means(stride);
+  std::vector<int> points(ids, 0);
+  for (std::uint16_t r : cloud.ring) ++points[r];
+  bool sparse = false;
+  for (std::size_t r = 0; r < ids; ++r) sparse |= stride > 1 && points[r] >= 3 && near[r] < 3;
+  if (sparse) means(1);
+  std::vector<std::size_t> kept;
+  for (std::size_t r = 0; r < ids; ++r)
+    if (near[r] >= 3) kept.push_back(r);
+  if (kept.size() < 4) return std::nullopt;
+  std::sort(kept.begin(), kept.end(), [&](auto a, auto b) { return mean[a] > mean[b]; });
+  RingStructure rings;
+  rings.row_of_ring.assign(ids, -1);
+  for (std::size_t row = 0; row < kept.size(); ++row) {
+    rings.elevation.push_back(mean[kept[row]]);
+    rings.row_of_ring[kept[row]] = static_cast<int>(row);
+    if (row > 0 && rings.elevation[row - 1] - rings.elevation[row] < 0.02 * kDeg)
+      return std::nullopt;
+  }
+  const auto band = [&](std::size_t row) {
+    double gap = M_PI;
+    if (row > 0) gap = std::min(gap, rings.elevation[row - 1] - rings.elevation[row]);
+    if (row + 1 < kept.size()) gap = std::min(gap, rings.elevation[row] - rings.elevation[row + 1]);
+    return std::max(0.25 * gap, 0.02 * kDeg);
+  };
+  std::size_t inside = 0, total = 0;
+  for (std::size_t i = 0; i < n; i += stride) {
+    if (!std::isfinite(el[i])) continue;
+    ++total;
+    const int row = rings.row_of_ring[cloud.ring[i]];
+    inside += row >= 0 && std::fabs(el[i] - rings.elevation[row]) <= band(row);
+  }
+  if (total == 0 || inside < 0.9 * total) return std::nullopt;
+  return rings;
+}
+
+TEST(RingStructure, TheRingFieldGivesTheRingsOfTheirDefinition) {
+  // Clean rings (the sums' shortcuts), stray returns over 0.5 deg off (the second mean), points
+  // beyond a ring's band (counted one by one, some clouds then rejected), NaN elevations, rings of
+  // one or two points, and clouds large enough to be sampled, with a sparse ring among them.
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<double> unit(0, 1), az(-M_PI, M_PI);
+  int found = 0, rejected = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int rings = trial % 6 == 5 ? 31 : 8 + trial % 24;
+    const std::size_t points = trial % 5 == 4 ? 70000 : 6000;
+    const double spread_deg = trial % 3 == 0 ? 0.0 : unit(rng) * (trial % 3 == 1 ? 0.6 : 1.5);
+    const double stray = trial % 4 == 1 ? 0.02 : 0.0;
+    PointCloud cloud;
+    std::vector<float> el;
+    for (std::size_t i = 0; i < points; ++i) {
+      int ring = static_cast<int>(i % static_cast<std::size_t>(rings));
+      if (trial % 5 == 4 && ring == 0 && i % 997 != 0) ring = 1;  // ring 0 sparse: sampled away
+      double e = (-15 + 30.0 * ring / (rings - 1)) * kDeg;
+      // Some spreads and strays one-sided: only one extreme strays.
+      e += (unit(rng) - (trial % 2 ? 0.5 : 0.0)) * spread_deg * kDeg;
+      // A skewed ring: a sixth of its points 0.4 deg high, beyond the band of 1-deg-apart
+      // rings on one side only, and still within 0.5 deg of the mean.
+      if (trial % 6 == 5 && unit(rng) < 0.16) e += 0.4 * kDeg;
+      const double side = trial % 8 == 1 ? 1 : (unit(rng) < 0.5 ? -1 : 1);
+      if (unit(rng) < stray) e += side * (0.6 + unit(rng)) * kDeg;
+      const double a = az(rng), d = 5 + 20 * unit(rng);
+      cloud.push_back(static_cast<float>(d * std::cos(e) * std::cos(a)),
+                      static_cast<float>(d * std::cos(e) * std::sin(a)),
+                      static_cast<float>(d * std::sin(e)), 10.0f);
+      cloud.ring.push_back(static_cast<std::uint16_t>(ring));
+      el.push_back(i % 401 == 7 ? std::nanf("") : static_cast<float>(e));
+    }
+    cloud.push_back(1, 0, 0, 10);  // a ring of one point: no row
+    cloud.ring.push_back(static_cast<std::uint16_t>(rings + 3));
+    el.push_back(0.0f);
+    const auto got = rings_from_field(cloud, el.data());
+    const auto expected = rings_by_definition(cloud, el.data());
+    ASSERT_EQ(got.has_value(), expected.has_value()) << "trial " << trial;
+    if (!got) {
+      ++rejected;
+      continue;
+    }
+    ++found;
+    EXPECT_EQ(got->elevation, expected->elevation) << "trial " << trial;
+    EXPECT_EQ(got->row_of_ring, expected->row_of_ring) << "trial " << trial;
+  }
+  EXPECT_GT(found, 30);
+  EXPECT_GT(rejected, 3);
 }
 
 TEST(RingStructure, ARosetteOrLivoxLinesAreNotRings) {
