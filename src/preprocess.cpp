@@ -21,23 +21,43 @@ namespace {
 // their 3-row column sums, then 3-column sums of those. The loops vectorise (checked with
 // -fopt-info-vec); the per-pixel one selects rather than blends, since 0 x an infinite mean would
 // be NaN.
+//
+// With `skip_uniform_blocks`, rows go in blocks of 32 pixels, flagged as each row is loaded (any
+// pixel observed, every one 255): a block observed throughout keeps its values, one with nothing
+// observed in it, its neighbour blocks and the rows above and below gets nothing (what the sums
+// give: no count reaches `needed`), and only runs of the others are summed. The same floats.
+// Measured, both passes alone: ring images 40 % faster (ULTRA Puck 0.072 -> 0.041 ms, OS1-128
+// 0.34 -> 0.19; 90 % of their blocks skipped), but 1- and 10-frame Mid-40 images 10-15 % slower
+// (few blocks to skip, and the flags cost about 1/8 of a row's sums).
 IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours,
-                                  cv::Mat& filled, cv::Mat& filled_mask) {
+                                  bool skip_uniform_blocks, cv::Mat& filled, cv::Mat& filled_mask) {
   const int rows = intensity.rows, cols = intensity.cols;
   filled.create(rows, cols, CV_32F);
   filled_mask.create(rows, cols, CV_8U);
+  constexpr int kBlock = 32;
+  constexpr std::uint8_t kAny = 1, kEvery = 2;                 // a block's flags
+  constexpr std::uint8_t kSum = 0, kObserved = 1, kEmpty = 2;  // what to do with it
+  constexpr int kMinSkippedRun = 4;  // shorter runs are summed: their set-up costs more
+  const int blocks = skip_uniform_blocks ? (cols + kBlock - 1) / kBlock : 1;
   // Rows padded by one zero column on each side: three rows' observed values and counts (row r in
-  // slot r % 3) and a fourth of zeros for the rows beyond the image.
+  // slot r % 3) and a fourth of zeros for the rows beyond the image; the same for the block flags,
+  // padded by an empty block each side.
   const std::size_t padded = static_cast<std::size_t>(cols) + 2;
+  const std::size_t flag_row = static_cast<std::size_t>(blocks) + 2;
   thread_local std::vector<float> row_values, row_counts, value_sum, count_sum;
+  thread_local std::vector<std::uint8_t> row_flags, block_kinds, flags_around;
   row_values.assign(4 * padded, 0.0f);
   row_counts.assign(4 * padded, 0.0f);
+  row_flags.assign(4 * flag_row, 0);
   value_sum.resize(padded);
   count_sum.resize(padded);
+  block_kinds.assign(static_cast<std::size_t>(blocks), kSum);
+  flags_around.resize(flag_row);
+  std::uint8_t* const kinds = block_kinds.data();
   const auto load_row = [&](int r) {
-    const std::size_t slot = static_cast<std::size_t>(r % 3) * padded + 1;
-    float* __restrict vs = row_values.data() + slot;
-    float* __restrict cs = row_counts.data() + slot;
+    const std::size_t slot = static_cast<std::size_t>(r % 3);
+    float* __restrict vs = row_values.data() + slot * padded + 1;
+    float* __restrict cs = row_counts.data() + slot * padded + 1;
     const float* __restrict v = intensity.ptr<float>(r);
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
     for (int c = 0; c < cols; ++c) {
@@ -45,50 +65,109 @@ IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask,
       vs[c] = v[c] * observed;
       cs[c] = observed;
     }
+    if (!skip_uniform_blocks) return;
+    std::uint8_t* __restrict flags = row_flags.data() + slot * flag_row + 1;
+    const int whole = cols / kBlock;
+    for (int b = 0; b < whole; ++b) {  // eight mask bytes a word, four words a block
+      std::uint64_t word[4];
+      std::memcpy(word, m + b * kBlock, sizeof word);
+      const std::uint64_t any = word[0] | word[1] | word[2] | word[3];
+      const std::uint64_t every = word[0] & word[1] & word[2] & word[3];
+      flags[b] = static_cast<std::uint8_t>((any ? kAny : 0) | (every == ~0ull ? kEvery : 0));
+    }
+    if (whole < blocks) {  // the last, partial block
+      std::uint8_t any = 0, every = 0xFF;
+      for (int c = whole * kBlock; c < cols; ++c) {
+        any |= m[c];
+        every &= m[c];
+      }
+      flags[whole] = static_cast<std::uint8_t>((any ? kAny : 0) | (every == 0xFF ? kEvery : 0));
+    }
   };
   // Row r's slot (r % 3), or the zero row beyond the image.
   const auto slot_of = [&](int r) -> std::size_t {
     return r < 0 || r >= rows ? 3 : static_cast<std::size_t>(r % 3);
   };
+  // The kind of each block of the row between slots s0 and s2 (byte loops, so they vectorise).
   const float needed = static_cast<float>(min_neighbours) - 0.5f;
+  const auto choose_kinds = [&](std::size_t s0, std::size_t s1, std::size_t s2) {
+    const std::uint8_t* __restrict f0 = row_flags.data() + s0 * flag_row;
+    const std::uint8_t* __restrict f1 = row_flags.data() + s1 * flag_row;
+    const std::uint8_t* __restrict f2 = row_flags.data() + s2 * flag_row;
+    std::uint8_t* __restrict column = flags_around.data();
+    for (std::size_t b = 0; b < flag_row; ++b) column[b] = f0[b] | f1[b] | f2[b];
+    const std::uint8_t empty = needed > 0 ? kEmpty : kSum;
+    for (int b = 0; b < blocks; ++b) {
+      const int near = column[b] | column[b + 1] | column[b + 2];
+      const std::uint8_t none_near = (near & kAny) ? kSum : empty;
+      kinds[b] = (f1[b + 1] & kEvery) ? kObserved : none_near;
+    }
+    for (int b = 0; b < blocks;) {
+      int end = b + 1;
+      while (end < blocks && kinds[end] == kinds[b]) ++end;
+      if (end - b < kMinSkippedRun && kinds[b] != kSum)
+        std::memset(kinds + b, kSum, static_cast<std::size_t>(end - b));
+      b = end;
+    }
+  };
   if (rows > 0) load_row(0);
   for (int r = 0; r < rows; ++r) {
     if (r + 1 < rows) load_row(r + 1);  // into the slot of row r - 2, no longer needed
-    // Each column's 3-row sums, added top to bottom as a running sum from zero would (the same
-    // floats). Two loops: GCC vectorises neither when one holds both sums.
     const std::size_t s0 = slot_of(r - 1) * padded, s1 = slot_of(r) * padded,
                       s2 = slot_of(r + 1) * padded;
-    float* __restrict vs = value_sum.data();
-    float* __restrict cs = count_sum.data();
-    {
-      const float* __restrict a = row_values.data() + s0;
-      const float* __restrict b = row_values.data() + s1;
-      const float* __restrict c = row_values.data() + s2;
-      for (int k = 0; k < cols + 2; ++k) vs[k] = a[k] + b[k] + c[k];
-    }
-    {
-      const float* __restrict a = row_counts.data() + s0;
-      const float* __restrict b = row_counts.data() + s1;
-      const float* __restrict c = row_counts.data() + s2;
-      for (int k = 0; k < cols + 2; ++k) cs[k] = a[k] + b[k] + c[k];
-    }
+    if (skip_uniform_blocks) choose_kinds(slot_of(r - 1), slot_of(r), slot_of(r + 1));
     const float* __restrict v = intensity.ptr<float>(r);
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(r);
     float* __restrict out = filled.ptr<float>(r);
     std::uint8_t* __restrict out_mask = filled_mask.ptr<std::uint8_t>(r);
-    // Every value is loaded before the selects, so the loop has no conditional load and
-    // vectorises (masks hold 0 or 255). vs[k] is the sum of image column k - 1.
-    for (int c = 0; c < cols; ++c) {
-      const float value = v[c];
-      const std::uint8_t observed = m[c];
-      const float sum = vs[c] + vs[c + 1] + vs[c + 2];
-      const float count = cs[c] + cs[c + 1] + cs[c + 2];
-      const float mean = sum / std::max(count, 1.0f);
-      const std::uint8_t fillable = count >= needed ? 255 : 0;
-      // Selects, not a blend: 0 * an infinite mean would be NaN.
-      const float fill = fillable ? mean : 0.0f;
-      out[c] = observed ? value : fill;
-      out_mask[c] = observed | fillable;
+    for (int b = 0; b < blocks;) {  // runs of blocks of one kind (one run: the whole row)
+      const std::uint8_t kind = kinds[b];
+      int end = b + 1;
+      while (end < blocks && kinds[end] == kind) ++end;
+      const int c0 = b * kBlock, c1 = end == blocks ? cols : end * kBlock;
+      const auto n = static_cast<std::size_t>(c1 - c0);
+      b = end;
+      if (kind == kObserved) {
+        std::memcpy(out + c0, v + c0, sizeof(float) * n);
+        std::memset(out_mask + c0, 255, n);
+        continue;
+      }
+      if (kind == kEmpty) {
+        std::memset(out + c0, 0, sizeof(float) * n);
+        std::memset(out_mask + c0, 0, n);
+        continue;
+      }
+      // Each column's 3-row sums, added top to bottom as a running sum from zero would (the same
+      // floats), over the run's columns and one each side (sum k is of image column k - 1). Two
+      // loops: GCC vectorises neither when one holds both sums.
+      float* __restrict vs = value_sum.data();
+      float* __restrict cs = count_sum.data();
+      {
+        const float* __restrict x = row_values.data() + s0;
+        const float* __restrict y = row_values.data() + s1;
+        const float* __restrict z = row_values.data() + s2;
+        for (int k = c0; k < c1 + 2; ++k) vs[k] = x[k] + y[k] + z[k];
+      }
+      {
+        const float* __restrict x = row_counts.data() + s0;
+        const float* __restrict y = row_counts.data() + s1;
+        const float* __restrict z = row_counts.data() + s2;
+        for (int k = c0; k < c1 + 2; ++k) cs[k] = x[k] + y[k] + z[k];
+      }
+      // Every value is loaded before the selects, so the loop has no conditional load and
+      // vectorises (masks hold 0 or 255).
+      for (int c = c0; c < c1; ++c) {
+        const float value = v[c];
+        const std::uint8_t observed = m[c];
+        const float sum = vs[c] + vs[c + 1] + vs[c + 2];
+        const float count = cs[c] + cs[c + 1] + cs[c + 2];
+        const float mean = sum / std::max(count, 1.0f);
+        const std::uint8_t fillable = count >= needed ? 255 : 0;
+        // Selects, not a blend: 0 * an infinite mean would be NaN.
+        const float fill = fillable ? mean : 0.0f;
+        out[c] = observed ? value : fill;
+        out_mask[c] = observed | fillable;
+      }
     }
   }
 }
@@ -257,7 +336,9 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   const cv::Mat* mask = &image.mask;
   for (int pass = 0; options.fill_holes && pass < std::max(1, options.fill_passes); ++pass) {
     PreprocessedImage::Buffers& into = out.work[pass % 2];
-    fill_holes(*values, *mask, options.fill_min_neighbours, into.values, into.mask);
+    // Blocks on ring images, whose sky and full rings leave most blocks uniform (above).
+    fill_holes(*values, *mask, options.fill_min_neighbours, image.geometry.ring_rows(), into.values,
+               into.mask);
     values = &into.values;
     mask = &into.mask;
   }

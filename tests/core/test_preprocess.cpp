@@ -173,6 +173,86 @@ TEST(Preprocess, HoleClassesMatchADirectCountOfTheBlocksAround) {
   EXPECT_THROW(preprocess(img, too_large, out), InputError);
 }
 
+// Hole filling against its definition, pixel by pixel: an unobserved pixel with at least 3
+// observed of its 8 neighbours takes their mean (summed column by column, top to bottom, then left
+// to right, as the pass adds them), the others keep their value or none. On ring-row images the
+// pass skips uniform 32-pixel blocks; both ways must give these floats. The scenes have observed
+// and empty stretches of every length around the blocks' edges, whole observed rows, sparse
+// patches, and unobserved pixels holding values that must not leak.
+TEST(Preprocess, FilledHolesAreTheMeanOfTheirObservedNeighboursInBlocksOrNot) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> level(0, 200);
+  std::uniform_int_distribution<int> stretch(1, 300);
+  const auto one_pass = [](const cv::Mat& v, const cv::Mat& m, cv::Mat& out, cv::Mat& out_mask) {
+    out.create(v.size(), CV_32F);
+    out_mask.create(v.size(), CV_8U);
+    const auto at = [&](int r, int c, bool value) -> float {
+      if (r < 0 || c < 0 || r >= v.rows || c >= v.cols || !m.at<uchar>(r, c)) return 0.0f;
+      return value ? v.at<float>(r, c) : 1.0f;
+    };
+    for (int r = 0; r < v.rows; ++r)
+      for (int c = 0; c < v.cols; ++c) {
+        float sum = 0, count = 0;
+        for (int dc = -1; dc <= 1; ++dc) {
+          sum += at(r - 1, c + dc, true) + at(r, c + dc, true) + at(r + 1, c + dc, true);
+          count += at(r - 1, c + dc, false) + at(r, c + dc, false) + at(r + 1, c + dc, false);
+        }
+        const bool observed = m.at<uchar>(r, c) != 0, fillable = count >= 2.5f;
+        out.at<float>(r, c) = observed   ? v.at<float>(r, c)
+                              : fillable ? sum / std::max(count, 1.0f)
+                                         : 0;
+        out_mask.at<uchar>(r, c) = observed || fillable ? 255 : 0;
+      }
+  };
+  int skippable = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    ProjectedImage img;
+    const int rows = 8 + trial % 5 * 7, cols = 300 + 53 * trial;
+    img.intensity = cv::Mat(rows, cols, CV_32F);
+    img.mask = cv::Mat(rows, cols, CV_8U);
+    img.range = cv::Mat(rows, cols, CV_32F, cv::Scalar(5));
+    // Rows of stretches observed, empty or sparse, of random lengths; most rows repeat the row
+    // above, so edges line up over the three rows a pixel's neighbours span.
+    for (int r = 0; r < rows; ++r) {
+      if (r > 0 && rng() % 10 < 7) {
+        img.mask.row(r - 1).copyTo(img.mask.row(r));
+      } else {
+        for (int c = 0; c < cols;) {
+          const int kind = static_cast<int>(rng() % 3), end = std::min(cols, c + stretch(rng));
+          for (; c < end; ++c)
+            img.mask.at<uchar>(r, c) = kind == 0 || (kind == 2 && rng() % 4 == 0) ? 255 : 0;
+        }
+      }
+      for (int c = 0; c < cols; ++c)  // unobserved pixels hold values never to be read
+        img.intensity.at<float>(r, c) = img.mask.at<uchar>(r, c) ? level(rng) : 1e6f;
+    }
+    cv::Mat pass1, mask1, expected, expected_mask;
+    one_pass(img.intensity, img.mask, pass1, mask1);
+    one_pass(pass1, mask1, expected, expected_mask);
+    for (bool rings : {false, true}) {
+      img.geometry = ImageGeometry{};
+      img.geometry.width = cols;
+      img.geometry.height = rows;
+      img.geometry.res_h = img.geometry.res_v = 0.01;
+      if (rings)  // ring rows 0.01 rad apart, as fine as the columns: no square pixels needed
+        for (int r = 0; r < rows; ++r) img.geometry.row_elevation.push_back(0.1 - 0.01 * r);
+      PreprocessOptions opt;
+      opt.threshold = 100;
+      opt.square_pixels = false;
+      PreprocessedImage out;
+      preprocess(img, opt, out);
+      const PreprocessedImage::Buffers& filled = out.work[1];  // the second pass's output
+      ASSERT_EQ(cv::norm(filled.values, expected, cv::NORM_INF), 0) << "trial " << trial << rings;
+      ASSERT_EQ(cv::norm(filled.mask, expected_mask, cv::NORM_INF), 0)
+          << "trial " << trial << rings;
+    }
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c + 32 <= cols; c += 32)
+        skippable += cv::countNonZero(img.mask.row(r).colRange(c, c + 32)) % 32 == 0;
+  }
+  EXPECT_GT(skippable, 200);  // blocks wholly observed or empty, for the block pass to skip
+}
+
 TEST(Preprocess, OtsuSplitsTheTwoLevels) {
   PreprocessOptions opt;  // no threshold: Otsu
   PreprocessedImage out;
