@@ -33,15 +33,20 @@ void contours_narrower_than_image(const cv::Mat& image, int mode, int method,
                                   std::vector<std::vector<cv::Point>>& contours) {
   contours.clear();
   const cv::Rect band = changing_band(image);
-  if (band.empty()) return;
+  if (!band.empty()) contours_in_band(image(band), band, mode, method, contours);
+}
+
+void contours_in_band(const cv::Mat& band_pixels, const cv::Rect& band, int mode, int method,
+                      std::vector<std::vector<cv::Point>>& contours) {
+  CV_Assert(band_pixels.size() == band.size());
   // findContours pads its input with zeros itself (BORDER_ISOLATED), so a band traces as an image
   // of its own; the offset puts its points in the image's coordinates.
-  cv::findContours(image(band), contours, mode, method, band.tl());
+  cv::findContours(band_pixels, contours, mode, method, band.tl());
   // A contour that reaches a uniform row spans the width there, in the band as in the image (where
   // it may run on further): neither version is kept.
   contours.erase(std::remove_if(contours.begin(), contours.end(),
                                 [&](const std::vector<cv::Point>& contour) {
-                                  return cv::boundingRect(contour).width >= image.cols;
+                                  return cv::boundingRect(contour).width >= band.width;
                                 }),
                  contours.end());
 }

@@ -20,4 +20,10 @@ cv::Rect changing_band(const cv::Mat& image);
 void contours_narrower_than_image(const cv::Mat& image, int mode, int method,
                                   std::vector<std::vector<cv::Point>>& contours);
 
+// The same from the pixels of the band alone: `band_pixels` holds rows `band` of an image as wide,
+// where `band` is changing_band of it (or of an image whose uniform rows it keeps uniform, as a
+// threshold does). Points in the image's coordinates.
+void contours_in_band(const cv::Mat& band_pixels, const cv::Rect& band, int mode, int method,
+                      std::vector<std::vector<cv::Point>>& contours);
+
 }  // namespace iilfm::detail

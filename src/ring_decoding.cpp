@@ -194,14 +194,15 @@ constexpr double kMinCandidateMargin = 0.5;
 // Each side is a line fitted to its contour points; corners are the lines' intersections,
 // clockwise in the image (top-left-most first is not needed: the decoder finds the turn).
 std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px) {
-  // Traced on the rows where `binary` changes (banded_contours.hpp): uniform rows are uniform in
-  // `dark` too, and the blobs that reach them span the width, which the box test drops anyway.
+  // Traced on the rows where `binary` changes (banded_contours.hpp), thresholded there only:
+  // uniform rows are uniform in `dark` too. The blobs spanning the width that this leaves out
+  // would fail the box test below anyway.
   const cv::Rect band = changing_band(binary);
   if (band.empty()) return {};
   thread_local cv::Mat dark;
   cv::compare(binary(band), 128, dark, cv::CMP_LT);
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(dark, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, band.tl());
+  contours_in_band(dark, band, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, contours);
   std::vector<std::array<Vec2, 4>> quads;
   for (const std::vector<cv::Point>& contour : contours) {
     if (contour.size() < 4 * min_side_px) continue;

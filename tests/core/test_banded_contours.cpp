@@ -87,8 +87,9 @@ TEST(BandedContours, AreTheContoursOfTheWholeImageInTheirOrder) {
     for (int r = 0; r < image.rows; ++r) {
       const bool outside = r < first || r >= end;
       const bool padding = (first > 0 && r < first + 2) || (end < image.rows && r >= end - 2);
-      if (outside || padding)
+      if (outside || padding) {
         ASSERT_TRUE(uniform_row(image, r)) << "trial " << trial << ", row " << r;
+      }
     }
     if (!band.empty() && band.height < image.rows) ++banded;
     for (const auto& [mode, method] : modes) {
@@ -118,11 +119,7 @@ TEST(BandedContours, AGrayImageThresholdedInItsBandGivesTheDarkBlobs) {
     Contours traced;
     if (!band.empty()) {
       cv::compare(gray(band), 128, band_dark, cv::CMP_LT);
-      cv::findContours(band_dark, traced, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, band.tl());
-      traced.erase(
-          std::remove_if(traced.begin(), traced.end(),
-                         [&](const auto& c) { return cv::boundingRect(c).width >= gray.cols; }),
-          traced.end());
+      detail::contours_in_band(band_dark, band, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, traced);
     }
     ASSERT_EQ(traced, expected) << "trial " << trial;
   }
