@@ -367,10 +367,16 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / res_h);
     const float u_end = static_cast<float>(g.width) - 0.5f;
     const auto row_stride = static_cast<int>(accumulator_row_stride(g.width));
-    if (by_field && cloud.ring.stride == 1) {  // the common case, vectorised
+    if (by_field) {
+      const std::uint16_t* ring = cloud.ring.data;
+      if (cloud.ring.stride != 1) {  // a numpy record array's field: copied, to vectorise
+        ring_copy_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) ring_copy_[i] = cloud.ring[i];
+        ring = ring_copy_.data();
+      }
       detail::ring_pixels_of_points(g, row_stride, rings->row_of_ring.data(),
-                                    rings->row_of_ring.size(), cloud.ring.data, azimuth_.data(),
-                                    range_.data(), n, pixel_.data(), offset_.data());
+                                    rings->row_of_ring.size(), ring, azimuth_.data(), range_.data(),
+                                    n, pixel_.data(), offset_.data());
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         pixel_[i] = -1;
@@ -379,16 +385,8 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
         if (!(u >= -0.5f && u < u_end)) continue;
         const int col = static_cast<int>(u + 0.5f);
         if (col >= g.width) continue;
-        int row;
-        if (by_field) {
-          const std::uint16_t ring = cloud.ring[i];
-          row = ring < rings->row_of_ring.size() ? rings->row_of_ring[ring] : -1;
-          if (row < 0) continue;
-        } else {
-          row = lookup.row(elevation_[i]);
-        }
         const float du = u - static_cast<float>(col);
-        pixel_[i] = row * row_stride + col;
+        pixel_[i] = lookup.row(elevation_[i]) * row_stride + col;
         offset_[i] = du * du;
       }
     }

@@ -49,10 +49,10 @@ std::size_t pixels_of_points(const ImageGeometry& g, std::int32_t row_stride, co
                              const float* elevation, const float* range, std::size_t n,
                              std::int32_t* pixel, float* offset);
 
-// Pass 2 for ring rows from a contiguous ring field: each point's pixel (row_of_ring[ring] *
-// row_stride + column, -1 outside the image or on a ring without a row) and squared column
-// offset from the pixel centre. Branch-free, so it vectorises (the row a gather); offsets of
-// points outside are written too, and never read.
+// Pass 2 for ring rows from the ring field (contiguous; SphericalProjector copies a strided one):
+// each point's pixel (row_of_ring[ring] * row_stride + column, -1 outside the image or on a ring
+// without a row) and squared column offset from the pixel centre. Branch-free, so it vectorises
+// (the row a gather); offsets of points outside are written too, and never read.
 void ring_pixels_of_points(const ImageGeometry& g, std::int32_t row_stride,
                            const std::int32_t* row_of_ring, std::size_t ring_ids,
                            const std::uint16_t* ring, const float* azimuth, const float* range,

@@ -166,6 +166,7 @@ class SphericalProjector {
   std::vector<float> azimuth_, elevation_, range_, offset_;
   // Each point's accumulator (row * accumulator_row_stride + column), -1 when not in the image.
   std::vector<std::int32_t> pixel_;
+  std::vector<std::uint16_t> ring_copy_;  // a strided ring field, made contiguous for pass 2
   std::vector<PixelAccumulator> pixels_;
   bool pixels_clear_ = true;  // every accumulator is zero (pass 4 leaves them so)
 };

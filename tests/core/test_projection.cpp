@@ -235,9 +235,9 @@ TEST(SphericalProjector, ThreadsGiveTheImagesOfOneThread) {
 }
 
 TEST(SphericalProjector, ARingFieldInAnyLayoutGivesTheSameImages) {
-  // A contiguous ring field takes the vectorised pass, a strided one (a numpy record array) the
-  // scalar loop: the same pixels for every point, including points on the seam's two edges,
-  // rings with too few points for a row, NaN and zero points.
+  // A contiguous ring field is read in place, a strided one (a numpy record array) copied first:
+  // the same pixels for every point, including points on the seam's two edges, rings with too
+  // few points for a row, NaN and zero points.
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> az(-M_PI, M_PI), r(1, 40), jitter(-0.05, 0.05);
   std::uniform_int_distribution<int> ring_of(0, 31);
