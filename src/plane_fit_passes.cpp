@@ -1,10 +1,10 @@
 #include "plane_fit_passes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "cpu_clones.hpp"
-#include "lane_range.hpp"
 
 namespace iilfm::detail {
 
@@ -12,32 +12,48 @@ namespace {
 
 constexpr std::size_t kLanes = 4;
 
+// Four doubles as one value (GCC's vector extension: one AVX2 register, two SSE2 ones), lane j
+// fed from every fourth point. Written with lane arrays, GCC left most of these sums scalar.
+// Unaligned and allowed to alias doubles, so the coordinate arrays are read through it.
+using Lanes = double __attribute__((vector_size(kLanes * sizeof(double)), aligned(8), may_alias));
+
+// The helpers and lambdas of these passes take and give Lanes by value; they are inlined into the
+// clones, so no call crosses the AVX/SSE calling conventions GCC warns about.
+#pragma GCC diagnostic ignored "-Wpsabi"  // to the file's end: GCC warns as it emits code
+Lanes lanes_at(const double* p) { return *reinterpret_cast<const Lanes*>(p); }
+
 // Lane sums added in one order: the same total for any vector width.
-double total(const double (&lanes)[kLanes]) {
-  return ((lanes[0] + lanes[1]) + lanes[2]) + lanes[3];
-}
+double total(Lanes lanes) { return ((lanes[0] + lanes[1]) + lanes[2]) + lanes[3]; }
 
 IILFM_AVX2_CLONES void sums_of(const double* __restrict x, const double* __restrict y,
                                const double* __restrict z, std::size_t n, double rx, double ry,
                                double rz, CoordinateSums& out) {
-  double sx[kLanes] = {}, sy[kLanes] = {}, sz[kLanes] = {}, sxx[kLanes] = {}, sxy[kLanes] = {},
-         sxz[kLanes] = {}, syy[kLanes] = {}, syz[kLanes] = {}, szz[kLanes] = {};
-  const auto add = [&](std::size_t k, std::size_t j) {
-    const double a = x[k] - rx, b = y[k] - ry, c = z[k] - rz;
-    sx[j] += a;
-    sy[j] += b;
-    sz[j] += c;
-    sxx[j] += a * a;
-    sxy[j] += a * b;
-    sxz[j] += a * c;
-    syy[j] += b * b;
-    syz[j] += b * c;
-    szz[j] += c * c;
-  };
+  Lanes sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
   const std::size_t whole = n - n % kLanes;
-  for (std::size_t k = 0; k < whole; k += kLanes)
-    for (std::size_t j = 0; j < kLanes; ++j) add(k + j, j);
-  for (std::size_t k = whole; k < n; ++k) add(k, 0);
+  for (std::size_t k = 0; k < whole; k += kLanes) {
+    const Lanes a = lanes_at(x + k) - rx, b = lanes_at(y + k) - ry, c = lanes_at(z + k) - rz;
+    sx += a;
+    sy += b;
+    sz += c;
+    sxx += a * a;
+    sxy += a * b;
+    sxz += a * c;
+    syy += b * b;
+    syz += b * c;
+    szz += c * c;
+  }
+  for (std::size_t k = whole; k < n; ++k) {  // the rest into lane 0
+    const double a = x[k] - rx, b = y[k] - ry, c = z[k] - rz;
+    sx[0] += a;
+    sy[0] += b;
+    sz[0] += c;
+    sxx[0] += a * a;
+    sxy[0] += a * b;
+    sxz[0] += a * c;
+    syy[0] += b * b;
+    syz[0] += b * c;
+    szz[0] += c * c;
+  }
   out.n = static_cast<double>(n);
   out.x = total(sx);
   out.y = total(sy);
@@ -56,6 +72,14 @@ IILFM_AVX2_CLONES void residuals_of(const double* __restrict x, const double* __
   for (std::size_t k = 0; k < n; ++k) out[k] = std::abs(nx * x[k] + ny * y[k] + nz * z[k] - d);
 }
 
+// Lane-wise minimum and maximum; a NaN never wins.
+void take_range(Lanes v, Lanes& lo, Lanes& hi) {
+  lo = v < lo ? v : lo;
+  hi = v > hi ? v : hi;
+}
+double lowest(Lanes v) { return std::min({v[0], v[1], v[2], v[3]}); }
+double highest(Lanes v) { return std::max({v[0], v[1], v[2], v[3]}); }
+
 IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __restrict y,
                                  const double* __restrict z, std::size_t n, const double* plane,
                                  SpreadSums& out) {
@@ -63,34 +87,47 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
   const double cx = plane[4], cy = plane[5], cz = plane[6];
   const double ax = plane[7], ay = plane[8], az = plane[9];
   const double bx = plane[10], by = plane[11], bz = plane[12];
-  double sq[kLanes] = {}, s1[kLanes] = {}, s2[kLanes] = {}, h1[kLanes] = {}, h2[kLanes] = {};
-  LaneRange<double, kLanes> along1(1e300, -1e300), along2(1e300, -1e300);
-  const auto add = [&](std::size_t k, std::size_t j) {
-    const double r = nx * x[k] + ny * y[k] + nz * z[k] - d;
-    const double r2 = r * r;
-    const double qx = x[k] - cx, qy = y[k] - cy, qz = z[k] - cz;
-    const double x1 = qx * ax + qy * ay + qz * az, x2 = qx * bx + qy * by + qz * bz;
-    sq[j] += r2;
-    s1[j] += x1 * x1;
-    s2[j] += x2 * x2;
-    h1[j] += x1 * x1 * r2;
-    h2[j] += x2 * x2 * r2;
-    along1.add(j, x1);
-    along2.add(j, x2);
+  Lanes sq{}, s1{}, s2{}, h1{}, h2{};
+  Lanes lo1 = Lanes{} + 1e300, hi1 = Lanes{} - 1e300, lo2 = lo1, hi2 = hi1;
+  // A point's squared residual and in-plane coordinates, for lanes of points or for one point.
+  const auto terms = [&](auto px, auto py, auto pz) {
+    const auto r = nx * px + ny * py + nz * pz - d;
+    const auto qx = px - cx, qy = py - cy, qz = pz - cz;
+    return std::array<decltype(r), 3>{r * r, qx * ax + qy * ay + qz * az,
+                                      qx * bx + qy * by + qz * bz};
   };
   const std::size_t whole = n - n % kLanes;
-  for (std::size_t k = 0; k < whole; k += kLanes)
-    for (std::size_t j = 0; j < kLanes; ++j) add(k + j, j);
-  for (std::size_t k = whole; k < n; ++k) add(k, 0);
+  for (std::size_t k = 0; k < whole; k += kLanes) {
+    const auto [r2, x1, x2] = terms(lanes_at(x + k), lanes_at(y + k), lanes_at(z + k));
+    sq += r2;
+    s1 += x1 * x1;
+    s2 += x2 * x2;
+    h1 += x1 * x1 * r2;
+    h2 += x2 * x2 * r2;
+    take_range(x1, lo1, hi1);
+    take_range(x2, lo2, hi2);
+  }
+  for (std::size_t k = whole; k < n; ++k) {  // the rest into lane 0
+    const auto [r2, x1, x2] = terms(x[k], y[k], z[k]);
+    sq[0] += r2;
+    s1[0] += x1 * x1;
+    s2[0] += x2 * x2;
+    h1[0] += x1 * x1 * r2;
+    h2[0] += x2 * x2 * r2;
+    lo1[0] = x1 < lo1[0] ? x1 : lo1[0];
+    hi1[0] = x1 > hi1[0] ? x1 : hi1[0];
+    lo2[0] = x2 < lo2[0] ? x2 : lo2[0];
+    hi2[0] = x2 > hi2[0] ? x2 : hi2[0];
+  }
   out.sum_sq = total(sq);
   out.s1 = total(s1);
   out.s2 = total(s2);
   out.h1 = total(h1);
   out.h2 = total(h2);
-  out.min1 = along1.min();
-  out.max1 = along1.max();
-  out.min2 = along2.min();
-  out.max2 = along2.max();
+  out.min1 = lowest(lo1);
+  out.max1 = highest(hi1);
+  out.min2 = lowest(lo2);
+  out.max2 = highest(hi2);
 }
 
 IILFM_AVX2_CLONES void patches_of(const double* __restrict x, const double* __restrict y,
@@ -114,13 +151,15 @@ IILFM_AVX2_CLONES void patches_of(const double* __restrict x, const double* __re
 
 IILFM_AVX2_CLONES void range_of(const double* __restrict v, std::size_t n, double& lo_out,
                                 double& hi_out) {
-  LaneRange<double, kLanes> range(v[0], v[0]);
+  Lanes lo = Lanes{} + v[0], hi = lo;
   const std::size_t whole = n - n % kLanes;
-  for (std::size_t k = 0; k < whole; k += kLanes)
-    for (std::size_t j = 0; j < kLanes; ++j) range.add(j, v[k + j]);
-  for (std::size_t k = whole; k < n; ++k) range.add(0, v[k]);
-  lo_out = range.min();
-  hi_out = range.max();
+  for (std::size_t k = 0; k < whole; k += kLanes) take_range(lanes_at(v + k), lo, hi);
+  for (std::size_t k = whole; k < n; ++k) {
+    lo[0] = v[k] < lo[0] ? v[k] : lo[0];
+    hi[0] = v[k] > hi[0] ? v[k] : hi[0];
+  }
+  lo_out = lowest(lo);
+  hi_out = highest(hi);
 }
 
 }  // namespace
@@ -171,8 +210,14 @@ void load_fit_points(const std::vector<Vec3>& points, const std::vector<std::uin
 }
 
 CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref) {
+  return coordinate_sums(p, ref, 0, p.size());
+}
+
+CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref, std::size_t begin,
+                               std::size_t end) {
   CoordinateSums sums;
-  sums_of(p.x.data(), p.y.data(), p.z.data(), p.size(), ref.x(), ref.y(), ref.z(), sums);
+  sums_of(p.x.data() + begin, p.y.data() + begin, p.z.data() + begin, end - begin, ref.x(), ref.y(),
+          ref.z(), sums);
   return sums;
 }
 
@@ -182,15 +227,31 @@ void plane_residuals(const FitPoints& p, const Vec3& normal, double d, double* r
 }
 
 std::size_t keep_within(const FitPoints& from, const double* residual, double band, FitPoints& to) {
-  to.resize(from.size());
+  const std::size_t n = from.size();
+  to.resize(n);
   std::size_t kept = 0;
-  for (std::size_t k = 0; k < from.size(); ++k) {
-    // Written always, counted when kept: no branch to mispredict on a noisy band edge.
-    to.x[kept] = from.x[k];
-    to.y[kept] = from.y[k];
-    to.z[kept] = from.z[k];
-    to.index[kept] = from.index[k];
-    kept += residual[k] <= band ? 1 : 0;
+  // Most points are kept: a block of them all within the band is copied whole.
+  constexpr std::size_t kBlock = 64;
+  for (std::size_t start = 0; start < n; start += kBlock) {
+    const std::size_t end = std::min(n, start + kBlock);
+    std::size_t outside = 0;
+    for (std::size_t k = start; k < end; ++k) outside += !(residual[k] <= band);
+    if (outside == 0) {
+      std::copy(from.x.data() + start, from.x.data() + end, to.x.data() + kept);
+      std::copy(from.y.data() + start, from.y.data() + end, to.y.data() + kept);
+      std::copy(from.z.data() + start, from.z.data() + end, to.z.data() + kept);
+      std::copy(from.index.data() + start, from.index.data() + end, to.index.data() + kept);
+      kept += end - start;
+      continue;
+    }
+    for (std::size_t k = start; k < end; ++k) {
+      // Written always, counted when kept: no branch to mispredict on a noisy band edge.
+      to.x[kept] = from.x[k];
+      to.y[kept] = from.y[k];
+      to.z[kept] = from.z[k];
+      to.index[kept] = from.index[k];
+      kept += residual[k] <= band ? 1 : 0;
+    }
   }
   to.resize(kept);
   return kept;

@@ -35,6 +35,9 @@ struct CoordinateSums {
   double n = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
 };
 CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref);
+// The same over the points [begin, end).
+CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref, std::size_t begin,
+                               std::size_t end);
 
 // |normal . p - d| of every point into `residual` (p.size() values).
 void plane_residuals(const FitPoints& p, const Vec3& normal, double d, double* residual);

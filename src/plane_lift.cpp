@@ -24,20 +24,6 @@ struct Moments : detail::CoordinateSums {
   Moments(const detail::CoordinateSums& sums, const Vec3& about)
       : detail::CoordinateSums(sums), ref(about) {}
 
-  void add(const Vec3& p) {
-    const double a = p.x() - ref.x(), b = p.y() - ref.y(), c = p.z() - ref.z();
-    n += 1;
-    x += a;
-    y += b;
-    z += c;
-    xx += a * a;
-    xy += a * b;
-    xz += a * c;
-    yy += b * b;
-    yz += b * c;
-    zz += c * c;
-  }
-
   // Adds (sign 1) or removes (sign -1) another set summed about the same reference point.
   void merge(const Moments& o, double sign) {
     n += sign * o.n;
@@ -94,15 +80,15 @@ Eigen::Vector2d jackknife_slope_variance(const detail::FitPoints& fit, const Pla
   thread_local std::vector<std::int32_t> patch;
   patch.resize(fit.size());
   detail::grid_patches(fit, plane.centre, plane.axis1, plane.axis2, extent, kGrid, patch.data());
-  // Points come row by row, so runs of them fall in one patch: each run is added to a copy of
-  // its patch's sums held in registers (the same additions in the same order), not through
-  // memory, where every add waited for the store of the one before.
+  // Points come row by row, so runs of them fall in one patch: each run is summed in vector lanes
+  // and added to its patch's sums.
   for (std::size_t k = 0; k < fit.size();) {
-    Moments& sums = patches[static_cast<std::size_t>(patch[k])];
-    Moments run = sums;
     const std::int32_t id = patch[k];
-    for (; k < fit.size() && patch[k] == id; ++k) run.add(Vec3(fit.x[k], fit.y[k], fit.z[k]));
-    sums = run;
+    std::size_t end = k + 1;
+    while (end < fit.size() && patch[end] == id) ++end;
+    patches[static_cast<std::size_t>(id)].merge(
+        Moments(detail::coordinate_sums(fit, plane.centre, k, end), plane.centre), 1);
+    k = end;
   }
   Moments total;
   total.ref = plane.centre;

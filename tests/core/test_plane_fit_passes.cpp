@@ -53,20 +53,56 @@ TEST(PlaneFitPasses, ResidualsAndKeepWithinKeepTheBandInOrder) {
   const double d = normal.x() * 3.0;
   std::vector<double> residual(p.size());
   plane_residuals(p, normal, d, residual.data());
-  FitPoints kept;
-  const double band = 0.004;
-  const std::size_t n = keep_within(p, residual.data(), band, kept);
-  std::vector<std::uint32_t> expected;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const double r = std::abs(normal.x() * p.x[k] + normal.y() * p.y[k] + normal.z() * p.z[k] - d);
-    EXPECT_NEAR(residual[k], r, 1e-12);
-    if (r <= band) expected.push_back(p.index[k]);
+  // A band that drops a third of the points, one that drops a few (whole blocks kept, others
+  // not), and one that keeps all.
+  for (const double band : {0.004, 0.0095, 1.0}) {
+    FitPoints kept;
+    const std::size_t n = keep_within(p, residual.data(), band, kept);
+    std::vector<std::uint32_t> expected;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const double r =
+          std::abs(normal.x() * p.x[k] + normal.y() * p.y[k] + normal.z() * p.z[k] - d);
+      EXPECT_NEAR(residual[k], r, 1e-12);
+      if (r <= band) expected.push_back(p.index[k]);
+    }
+    ASSERT_EQ(n, expected.size()) << band;
+    EXPECT_EQ(kept.index, expected) << band;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t from = kept.index[k] / 10;
+      ASSERT_EQ(kept.x[k], p.x[from]);
+      ASSERT_EQ(kept.y[k], p.y[from]);
+      ASSERT_EQ(kept.z[k], p.z[from]);
+    }
+    if (band == 0.004) {
+      EXPECT_GT(n, 500u);  // about 68 % of a 1-sigma band
+      EXPECT_LT(n, p.size());
+    } else if (band < 1) {
+      EXPECT_GT(n, p.size() - 30);  // a few dropped, so some blocks are kept whole
+      EXPECT_LT(n, p.size() - 2);
+    } else {
+      EXPECT_EQ(n, p.size());
+    }
   }
-  ASSERT_EQ(n, expected.size());
-  EXPECT_EQ(kept.index, expected);
-  EXPECT_GT(n, 500u);  // about 68 % of a 1-sigma band
-  EXPECT_LT(n, p.size());
-  for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(kept.x[k], p.x[kept.index[k] / 10]);
+}
+
+TEST(PlaneFitPasses, CoordinateSumsOfARangeAreThoseOfItsPoints) {
+  const FitPoints p = some_points();
+  const Vec3 ref(3, 0, 0);
+  for (const auto& [begin, end] :
+       {std::pair<std::size_t, std::size_t>{0, 1003}, {5, 6}, {7, 500}, {998, 1003}, {400, 400}}) {
+    FitPoints part;
+    for (std::size_t k = begin; k < end; ++k) {
+      part.x.push_back(p.x[k]);
+      part.y.push_back(p.y[k]);
+      part.z.push_back(p.z[k]);
+      part.index.push_back(p.index[k]);
+    }
+    const CoordinateSums a = coordinate_sums(p, ref, begin, end), b = coordinate_sums(part, ref);
+    EXPECT_EQ(a.n, static_cast<double>(end - begin));
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.yz, b.yz);
+    EXPECT_EQ(a.zz, b.zz);
+  }
 }
 
 TEST(PlaneFitPasses, SpreadSumsGiveTheInPlaneExtent) {
