@@ -197,16 +197,39 @@ double value_of_rank(const double* v, std::size_t n, std::size_t rank) {
   return select(rank - below);
 }
 
-void load_fit_points(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& used,
-                     FitPoints& out) {
-  out.resize(used.size());
-  for (std::size_t k = 0; k < used.size(); ++k) {
-    const Vec3& p = points[used[k]];
-    out.x[k] = p.x();
-    out.y[k] = p.y();
-    out.z[k] = p.z();
-    out.index[k] = used[k];
+namespace {
+
+// Appends from[k] for k in [begin, end) to `to` (sized for all of them past `kept`) where take(k),
+// in order; returns the new count. Every point is written, and counted when taken: no branch to
+// mispredict on a noisy band edge or a ragged label boundary.
+template <typename Take>
+std::size_t compact(const FitPoints& from, std::size_t begin, std::size_t end, std::size_t kept,
+                    FitPoints& to, Take&& take) {
+  for (std::size_t k = begin; k < end; ++k) {
+    to.x[kept] = from.x[k];
+    to.y[kept] = from.y[k];
+    to.z[kept] = from.z[k];
+    kept += take(k) ? 1 : 0;
   }
+  return kept;
+}
+
+}  // namespace
+
+void keep_labelled(const FitPoints& from, const std::uint8_t* label, std::uint8_t lo,
+                   std::uint8_t hi, FitPoints& to) {
+  to.resize(from.size());
+  to.resize(compact(from, 0, from.size(), 0, to,
+                    [&](std::size_t k) { return label[k] >= lo && label[k] <= hi; }));
+}
+
+void append_labelled_within(const FitPoints& from, const std::uint8_t* label, std::uint8_t lo,
+                            std::uint8_t hi, const double* value, double band, FitPoints& to) {
+  const std::size_t before = to.size();
+  to.resize(before + from.size());
+  to.resize(compact(from, 0, from.size(), before, to, [&](std::size_t k) {
+    return (label[k] >= lo) & (label[k] <= hi) & (value[k] <= band);
+  }));
 }
 
 CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref) {
@@ -240,18 +263,10 @@ std::size_t keep_within(const FitPoints& from, const double* residual, double ba
       std::copy(from.x.data() + start, from.x.data() + end, to.x.data() + kept);
       std::copy(from.y.data() + start, from.y.data() + end, to.y.data() + kept);
       std::copy(from.z.data() + start, from.z.data() + end, to.z.data() + kept);
-      std::copy(from.index.data() + start, from.index.data() + end, to.index.data() + kept);
       kept += end - start;
       continue;
     }
-    for (std::size_t k = start; k < end; ++k) {
-      // Written always, counted when kept: no branch to mispredict on a noisy band edge.
-      to.x[kept] = from.x[k];
-      to.y[kept] = from.y[k];
-      to.z[kept] = from.z[k];
-      to.index[kept] = from.index[k];
-      kept += residual[k] <= band ? 1 : 0;
-    }
+    kept = compact(from, start, end, kept, to, [&](std::size_t k) { return residual[k] <= band; });
   }
   to.resize(kept);
   return kept;

@@ -6,29 +6,60 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include "iilfm/types.hpp"
 
 namespace iilfm::detail {
 
-// A fit's points and, for each, its index in the gathered set.
-struct FitPoints {
-  std::vector<double> x, y, z;
-  std::vector<std::uint32_t> index;
+// An allocator whose vectors leave new elements of a resize uninitialised: the fit's buffers are
+// sized for the most points a pass can write and then trimmed, and zeroing megabytes that are
+// overwritten at once cost as much as a pass.
+template <typename T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  UninitialisedAllocator() = default;
+  template <typename U>
+  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;  // default-initialised: no value for a double
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
 
-  std::size_t size() const { return index.size(); }
+template <typename T>
+using Buffer = std::vector<T, UninitialisedAllocator<T>>;
+
+// A fit's points, one array per coordinate.
+struct FitPoints {
+  Buffer<double> x, y, z;
+
+  std::size_t size() const { return x.size(); }
   void resize(std::size_t n) {
     x.resize(n);
     y.resize(n);
     z.resize(n);
-    index.resize(n);
   }
 };
 
-// points[used[k]] for every k, in that order.
-void load_fit_points(const std::vector<Vec3>& points, const std::vector<std::uint32_t>& used,
-                     FitPoints& out);
+// The points whose label is within [lo, hi], in order, into `to`.
+void keep_labelled(const FitPoints& from, const std::uint8_t* label, std::uint8_t lo,
+                   std::uint8_t hi, FitPoints& to);
+
+// Appends to `to`, in order, the points whose label is within [lo, hi] and whose value is at most
+// `band`.
+void append_labelled_within(const FitPoints& from, const std::uint8_t* label, std::uint8_t lo,
+                            std::uint8_t hi, const double* value, double band, FitPoints& to);
 
 // Sums of the coordinates about `ref` and of their products.
 struct CoordinateSums {

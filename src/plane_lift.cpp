@@ -65,8 +65,6 @@ Plane plane_from_moments(const Moments& m) {
   return plane;
 }
 
-using Indices = std::vector<std::uint32_t>;
-
 // Slope variances of `plane` by a block jackknife: the inliers split into kGrid x kGrid patches
 // along the plane's axes (extent: x1 from, to, x2 from, to about the centre), the plane refitted
 // without each patch in turn. Range errors correlated between neighbouring points tilt the fit
@@ -141,7 +139,8 @@ void add_plane_uncertainty(const detail::FitPoints& fit, Plane& plane) {
 // an evenly strided sample of 4096 (about 2 % standard error). It only sets a 3-sigma band, and an
 // exact selection over a coplanar wall's ~10^5 points cost more than the fit. The marker's own band
 // stays exact: it decides whether the surround is coplanar, a share compared with a threshold.
-double median_of(const std::vector<double>& values) {
+template <typename Values>
+double median_of(const Values& values) {
   constexpr std::size_t kExact = 16384, kSample = 4096;
   if (values.size() <= kExact)
     return detail::value_of_rank(values.data(), values.size(), values.size() / 2);
@@ -182,13 +181,13 @@ PolygonFrame polygon_frame(const ImageGeometry& g) {
 // `nested[k]`, outermost first. A pixel holding one point contributes that point, one holding
 // several its mean range along the pixel-centre ray.
 struct LabelledPoints {
-  std::vector<Vec3> points;
-  std::vector<std::uint8_t> label;
+  detail::FitPoints points;
+  detail::Buffer<std::uint8_t> label;
 };
 
 void gather_points(const std::vector<std::vector<Vec2>>& nested, const ProjectedImage& image,
                    const PointView& cloud, const PolygonFrame& frame, LabelledPoints& out) {
-  out.points.clear();
+  out.points.resize(0);
   out.label.clear();
   const ImageGeometry& g = image.geometry;
   double min_u = 1e18, max_u = -1e18, min_v = 1e18, max_v = -1e18;
@@ -233,21 +232,24 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     cos_az[k] = std::cos(azimuth);
     sin_az[k] = std::sin(azimuth);
   }
-  thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
-  // Sized for every pixel of the box and written through plain pointers: a push_back per point
-  // reloaded the thread-local vectors' ends for each one.
+  thread_local detail::Buffer<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
+  // Sized for every pixel of the box (plus the one slot written past the last point) and written
+  // through plain pointers: a push_back per point reloaded the thread-local vectors' ends.
   std::size_t rows_in_box = 0;
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
     rows_in_box += v >= v0 && v <= v1 ? 1 : 0;
   }
-  const std::size_t most = rows_in_box * column.size();
-  out.points.resize(most);
+  const std::size_t most = rows_in_box * column.size() + 1;
+  detail::FitPoints& fit = out.points;
+  fit.resize(most);
   out.label.resize(most);
   single.resize(most);
-  Vec3* points = out.points.data();
-  std::uint8_t* labelled = out.label.data();
-  std::pair<std::uint32_t, std::uint32_t>* singles = single.data();
+  double* __restrict xs = fit.x.data();
+  double* __restrict ys = fit.y.data();
+  double* __restrict zs = fit.z.data();
+  std::uint8_t* __restrict labelled = out.label.data();
+  std::pair<std::uint32_t, std::uint32_t>* __restrict singles = single.data();
   std::size_t n = 0, n_single = 0;
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
@@ -259,20 +261,23 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     const float* range = image.range.ptr<float>(r);
     const double elevation = g.elevation_of_v(r);
     const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
+    // Every pixel is written to the next slot and counted only when labelled and observed, and a
+    // pixel of one point also as a single: no branch on the mix of single- and many-point pixels.
     for (std::size_t k = 0; k < column.size(); ++k) {
       const std::uint8_t label = in[k];
-      const int c = column[k];
-      if (!label || c < 0 || !seen[c]) continue;
-      if (count[c] == 1) {
-        singles[n_single++] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index[c])};
-      } else {
-        points[n] =
-            Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el) * static_cast<double>(range[c]);
-      }
-      labelled[n++] = label;
+      const int c = std::max(column[k], 0);
+      const bool taken = (label != 0) & (column[k] >= 0) & (seen[c] != 0);
+      const double along = static_cast<double>(range[c]);
+      xs[n] = cos_el * cos_az[k] * along;
+      ys[n] = cos_el * sin_az[k] * along;
+      zs[n] = sin_el * along;
+      labelled[n] = label;
+      singles[n_single] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index[c])};
+      n_single += taken & (count[c] == 1);
+      n += taken;
     }
   }
-  out.points.resize(n);
+  fit.resize(n);
   out.label.resize(n);
   single.resize(n_single);
   // The single-point pixels' points, read from the cloud in a second pass with prefetching: the
@@ -286,33 +291,33 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
       __builtin_prefetch(cloud.y.data + static_cast<std::ptrdiff_t>(ahead) * cloud.y.stride);
       __builtin_prefetch(cloud.z.data + static_cast<std::ptrdiff_t>(ahead) * cloud.z.stride);
     }
-    out.points[single[k].first] = cloud.point(single[k].second);
+    const Vec3 p = cloud.point(single[k].second);
+    const std::size_t slot = single[k].first;
+    xs[slot] = p.x();
+    ys[slot] = p.y();
+    zs[slot] = p.z();
   }
 }
 
-// Least squares over points[used], then refits without points farther than max(min band, 3
-// robust sigmas). Leaves the final inliers in `used`.
-Plane robust_plane(const std::vector<Vec3>& points, Indices& used, const PlaneFitOptions& options,
-                   double* band_out) {
-  if (used.empty()) return Plane{};
-  thread_local detail::FitPoints current, kept;
-  detail::load_fit_points(points, used, current);
-  const Vec3 first = points[used.front()];
-  Plane plane = plane_from_moments(Moments(detail::coordinate_sums(current, first), first));
-  thread_local std::vector<double> residuals;
+// Least squares over `fit`, then refits without points farther than max(min band, 3 robust
+// sigmas). Leaves the final inliers in `fit`.
+Plane robust_plane(detail::FitPoints& fit, const PlaneFitOptions& options, double* band_out) {
+  if (fit.size() == 0) return Plane{};
+  thread_local detail::FitPoints kept;
+  const Vec3 first(fit.x[0], fit.y[0], fit.z[0]);
+  Plane plane = plane_from_moments(Moments(detail::coordinate_sums(fit, first), first));
+  thread_local detail::Buffer<double> residuals;
   double band = options.min_inlier_band_m;
   for (int it = 0; it < options.iterations && plane.ok; ++it) {
-    residuals.resize(current.size());
-    detail::plane_residuals(current, plane.normal, plane.d, residuals.data());
+    residuals.resize(fit.size());
+    detail::plane_residuals(fit, plane.normal, plane.d, residuals.data());
     band = std::max(options.min_inlier_band_m, 3 * 1.4826 * median_of(residuals));
-    const std::size_t n_kept = detail::keep_within(current, residuals.data(), band, kept);
-    if (n_kept < options.min_points || n_kept == current.size()) break;
-    std::swap(current, kept);
-    plane =
-        plane_from_moments(Moments(detail::coordinate_sums(current, plane.centre), plane.centre));
+    const std::size_t n_kept = detail::keep_within(fit, residuals.data(), band, kept);
+    if (n_kept < options.min_points || n_kept == fit.size()) break;
+    std::swap(fit, kept);
+    plane = plane_from_moments(Moments(detail::coordinate_sums(fit, plane.centre), plane.centre));
   }
-  used.assign(current.index.begin(), current.index.end());
-  add_plane_uncertainty(current, plane);
+  add_plane_uncertainty(fit, plane);
   if (band_out) *band_out = band;
   return plane;
 }
@@ -344,51 +349,54 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   const std::uint8_t marker_label = static_cast<std::uint8_t>(nested.size());
   thread_local LabelledPoints gathered;
   gather_points(nested, image, cloud, frame, gathered);
-  const std::vector<Vec3>& points = gathered.points;
+  const detail::FitPoints& points = gathered.points;
+  const std::uint8_t* label = gathered.label.data();
 
-  thread_local Indices marker, ring, all;
-  marker.clear();
-  for (std::uint32_t i = 0; i < points.size(); ++i)
-    if (gathered.label[i] == marker_label) marker.push_back(i);
+  // The marker's points, then (robust_plane) its inliers.
+  thread_local detail::FitPoints marker, all;
+  detail::keep_labelled(points, label, marker_label, marker_label, marker);
   if (marker.size() < options.min_points) return Plane{};
   double band = 0;
-  Plane plane = robust_plane(points, marker, options, &band);
+  Plane plane = robust_plane(marker, options, &band);
   if (!plane.ok) return plane;
 
   // A printed sheet is flush with what it hangs on: when the surround is coplanar with the marker,
   // its points pin the normal down far better (more points, longer lever). Largest ring first;
   // surround k's ring holds the labels k + 1 up to the marker's, exclusive.
+  thread_local detail::Buffer<double> offsets_all;
   thread_local std::vector<double> offsets;
+  offsets_all.resize(points.size());
+  detail::plane_residuals(points, plane.normal, plane.d, offsets_all.data());
   for (std::size_t k = 0; k < scales.size(); ++k) {
-    ring.clear();
-    for (std::uint32_t i = 0; i < points.size(); ++i)
-      if (gathered.label[i] > k && gathered.label[i] != marker_label) ring.push_back(i);
-    if (ring.size() < marker.size() / 2) continue;
-    std::size_t coplanar = 0;
+    const auto first_label = static_cast<std::uint8_t>(k + 1);
+    const auto last_label = static_cast<std::uint8_t>(marker_label - 1);
     offsets.clear();
-    for (std::uint32_t i : ring) {
-      const double offset = std::abs(plane.normal.dot(points[i]) - plane.d);
-      coplanar += offset <= band;
-      offsets.push_back(offset);
+    std::size_t coplanar = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (label[i] < first_label || label[i] > last_label) continue;
+      coplanar += offsets_all[i] <= band;
+      offsets.push_back(offsets_all[i]);
     }
-    if (coplanar < options.min_coplanar_fraction * static_cast<double>(ring.size())) continue;
+    if (offsets.size() < marker.size() / 2) continue;
+    if (coplanar < options.min_coplanar_fraction * static_cast<double>(offsets.size())) continue;
     // Coplanar: take the ring's points within 4 of its own robust sigmas. The marker's band is
     // too narrow for the ring when the ring's pixels average fewer returns (a rosette is densest
     // at its centre): cutting the ring's tails about the marker's own, tilted plane pulls the
     // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
     const double ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
     all = marker;
-    for (std::size_t j = 0; j < ring.size(); ++j)
-      if (offsets[j] <= ring_band) all.push_back(ring[j]);
-    Plane wide = robust_plane(points, all, options, nullptr);
+    detail::append_labelled_within(points, label, first_label, last_label, offsets_all.data(),
+                                   ring_band, all);
+    Plane wide = robust_plane(all, options, nullptr);
     if (!wide.ok) continue;
     // The normal from the wide fit; the offset from the marker's own points, so a sheet standing a
     // little proud of its wall (a board, a thick print) keeps its own depth.
     double offset = 0;
     Vec3 centre = Vec3::Zero();
-    for (std::uint32_t i : marker) {
-      offset += wide.normal.dot(points[i]);
-      centre += points[i];
+    for (std::size_t i = 0; i < marker.size(); ++i) {
+      const Vec3 p(marker.x[i], marker.y[i], marker.z[i]);
+      offset += wide.normal.dot(p);
+      centre += p;
     }
     const double n_marker = static_cast<double>(marker.size());
     wide.d = offset / n_marker;
@@ -396,7 +404,8 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
     // The offset is the marker points' mean (the variance of a mean of their residuals), the
     // slopes the wide fit's, about the marker's centroid.
     double sum_sq = 0;
-    for (std::uint32_t i : marker) sum_sq += std::pow(wide.normal.dot(points[i]) - wide.d, 2);
+    for (std::size_t i = 0; i < marker.size(); ++i)
+      sum_sq += std::pow(wide.normal.dot(Vec3(marker.x[i], marker.y[i], marker.z[i])) - wide.d, 2);
     wide.offset_variance = sum_sq / (n_marker * std::max(1.0, n_marker - 1));
     wide.centre = centre / n_marker;
     return wide;

@@ -22,7 +22,6 @@ FitPoints some_points(std::size_t n = 1003) {
     p.x.push_back(3.0 + 0.2 * a + noise(rng));
     p.y.push_back(a);
     p.z.push_back(b);
-    p.index.push_back(static_cast<std::uint32_t>(10 * k));
   }
   return p;
 }
@@ -58,20 +57,19 @@ TEST(PlaneFitPasses, ResidualsAndKeepWithinKeepTheBandInOrder) {
   for (const double band : {0.004, 0.0095, 1.0}) {
     FitPoints kept;
     const std::size_t n = keep_within(p, residual.data(), band, kept);
-    std::vector<std::uint32_t> expected;
+    std::vector<std::size_t> expected;
     for (std::size_t k = 0; k < p.size(); ++k) {
       const double r =
           std::abs(normal.x() * p.x[k] + normal.y() * p.y[k] + normal.z() * p.z[k] - d);
       EXPECT_NEAR(residual[k], r, 1e-12);
-      if (r <= band) expected.push_back(p.index[k]);
+      if (r <= band) expected.push_back(k);
     }
     ASSERT_EQ(n, expected.size()) << band;
-    EXPECT_EQ(kept.index, expected) << band;
+    ASSERT_EQ(kept.size(), n);
     for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t from = kept.index[k] / 10;
-      ASSERT_EQ(kept.x[k], p.x[from]);
-      ASSERT_EQ(kept.y[k], p.y[from]);
-      ASSERT_EQ(kept.z[k], p.z[from]);
+      ASSERT_EQ(kept.x[k], p.x[expected[k]]) << band;
+      ASSERT_EQ(kept.y[k], p.y[expected[k]]) << band;
+      ASSERT_EQ(kept.z[k], p.z[expected[k]]) << band;
     }
     if (band == 0.004) {
       EXPECT_GT(n, 500u);  // about 68 % of a 1-sigma band
@@ -95,13 +93,41 @@ TEST(PlaneFitPasses, CoordinateSumsOfARangeAreThoseOfItsPoints) {
       part.x.push_back(p.x[k]);
       part.y.push_back(p.y[k]);
       part.z.push_back(p.z[k]);
-      part.index.push_back(p.index[k]);
     }
     const CoordinateSums a = coordinate_sums(p, ref, begin, end), b = coordinate_sums(part, ref);
     EXPECT_EQ(a.n, static_cast<double>(end - begin));
     EXPECT_EQ(a.x, b.x);
     EXPECT_EQ(a.yz, b.yz);
     EXPECT_EQ(a.zz, b.zz);
+  }
+}
+
+TEST(PlaneFitPasses, LabelledPointsAreKeptAndAppendedInOrder) {
+  const FitPoints p = some_points();
+  std::vector<std::uint8_t> label(p.size());
+  std::vector<double> value(p.size());
+  std::mt19937 rng(3);
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    label[k] = static_cast<std::uint8_t>(rng() % 4);  // 0 to 3
+    value[k] = static_cast<double>(rng() % 100);
+  }
+  FitPoints kept;
+  keep_labelled(p, label.data(), 2, 3, kept);
+  FitPoints appended = kept;
+  append_labelled_within(p, label.data(), 1, 2, value.data(), 49.0, appended);
+  std::vector<std::size_t> first, second;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    if (label[k] >= 2) first.push_back(k);
+    if (label[k] >= 1 && label[k] <= 2 && value[k] <= 49) second.push_back(k);
+  }
+  ASSERT_EQ(kept.size(), first.size());
+  ASSERT_EQ(appended.size(), first.size() + second.size());
+  EXPECT_GT(second.size(), 150u);  // about a quarter of the points
+  for (std::size_t k = 0; k < appended.size(); ++k) {
+    const std::size_t from = k < first.size() ? first[k] : second[k - first.size()];
+    ASSERT_EQ(appended.x[k], p.x[from]) << k;
+    ASSERT_EQ(appended.y[k], p.y[from]) << k;
+    ASSERT_EQ(appended.z[k], p.z[from]) << k;
   }
 }
 
