@@ -183,17 +183,31 @@ double value_of_rank(const double* v, std::size_t n, std::size_t rank) {
     return select(rank);
   }
   // bin(value) never decreases as the value grows, so every value of a lower bin is smaller
-  // than every value of a higher one.
+  // than every value of a higher one. Clamped before the conversion (NaN gives bin 0).
   const auto bin = [&](double value) {
-    return std::min(kBins - 1, static_cast<std::size_t>(std::max(0.0, (value - lo) * scale)));
+    return static_cast<std::int32_t>(
+        std::min(static_cast<double>(kBins - 1), std::max(0.0, (value - lo) * scale)));
   };
-  std::size_t count[kBins] = {};
-  for (std::size_t k = 0; k < n; ++k) ++count[bin(v[k])];
+  thread_local Buffer<std::int32_t> bins;
+  bins.resize(n);
+  std::int32_t* __restrict bin_of = bins.data();
+  for (std::size_t k = 0; k < n; ++k) bin_of[k] = bin(v[k]);  // vectorises
+  // Four histograms taken in turn: residuals cluster in a few bins, and one histogram made each
+  // count wait for the store of the one before.
+  std::uint32_t count[4][kBins] = {};
+  const std::size_t whole = n - n % 4;
+  for (std::size_t k = 0; k < whole; k += 4)
+    for (std::size_t j = 0; j < 4; ++j) ++count[j][bin_of[k + j]];
+  for (std::size_t k = whole; k < n; ++k) ++count[0][bin_of[k]];
+  const auto in_bin = [&](std::size_t b) {
+    return std::size_t{count[0][b]} + count[1][b] + count[2][b] + count[3][b];
+  };
   std::size_t b = 0, below = 0;
-  while (below + count[b] <= rank) below += count[b++];
+  while (below + in_bin(b) <= rank) below += in_bin(b++);
   chosen.clear();
+  const auto chosen_bin = static_cast<std::int32_t>(b);
   for (std::size_t k = 0; k < n; ++k)
-    if (bin(v[k]) == b) chosen.push_back(v[k]);
+    if (bin_of[k] == chosen_bin) chosen.push_back(v[k]);
   return select(rank - below);
 }
 

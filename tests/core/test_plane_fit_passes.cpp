@@ -165,17 +165,24 @@ TEST(PlaneFitPasses, GridPatchesClampOutsidersAndNaNToTheEdge) {
 TEST(PlaneFitPasses, ValueOfRankIsWhatNthElementSelects) {
   std::mt19937 rng(3);
   std::exponential_distribution<double> residual(200.0);  // a residual-like long tail
-  for (const std::size_t n : {1u, 7u, 1024u, 1025u, 10000u, 16384u}) {
-    std::vector<double> v(n);
-    for (double& x : v) x = residual(rng);
-    // Ties: a quarter of the values repeat one value, and an outlier stretches the range.
-    for (std::size_t k = 0; k < n / 4; ++k) v[4 * k] = v[0];
-    if (n > 2) v[1] = 50.0;
-    for (const std::size_t rank : {std::size_t{0}, n / 2, n - 1}) {
+  for (const std::size_t n : {1u, 7u, 1024u, 1025u, 10000u, 10003u, 16384u}) {
+    for (const bool outlier : {false, true}) {
+      std::vector<double> v(n);
+      for (double& x : v) x = residual(rng);
+      // Ties: a quarter of the values repeat one value; an outlier stretches the range (and puts
+      // the rest in one bin).
+      for (std::size_t k = 0; k < n / 4; ++k) v[4 * k] = v[0];
+      if (n > 2 && outlier) v[1] = 50.0;
+      // The extremes, the middle, and the ranks of the last values (counted apart from the rest
+      // when n is not a multiple of four).
       std::vector<double> sorted = v;
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(rank),
-                       sorted.end());
-      EXPECT_EQ(value_of_rank(v.data(), n, rank), sorted[rank]) << "n " << n << " rank " << rank;
+      std::sort(sorted.begin(), sorted.end());
+      std::vector<std::size_t> ranks = {0, n / 2, n - 1};
+      for (std::size_t k = n - std::min<std::size_t>(n, 3); k < n; ++k)
+        ranks.push_back(static_cast<std::size_t>(
+            std::lower_bound(sorted.begin(), sorted.end(), v[k]) - sorted.begin()));
+      for (const std::size_t rank : ranks)
+        EXPECT_EQ(value_of_rank(v.data(), n, rank), sorted[rank]) << "n " << n << " rank " << rank;
     }
   }
   const std::vector<double> same(5000, 0.25);  // no range to split
