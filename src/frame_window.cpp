@@ -54,8 +54,11 @@ void FrameWindow::make_room(std::size_t points) {
   move_to_front(buffer_.time, live_begin, end_);
   begin_ -= live_begin;
   end_ -= live_begin;
+  // Grown to twice the live part whenever it is smaller, not only when the frame does not fit:
+  // a buffer a little larger than the window moved the whole window every few pushes (a 60-frame
+  // Mid-40 window: 10 MB every second or third push).
   const std::size_t wanted = 2 * (end_ + points);
-  if (buffer_.x.size() < end_ + points)
+  if (buffer_.x.size() < wanted)
     for (std::vector<float>* c : columns) c->resize(wanted);
 }
 

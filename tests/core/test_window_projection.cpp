@@ -2,6 +2,7 @@
 // whole window projected from scratch.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "iilfm/error.hpp"
@@ -51,6 +52,32 @@ TEST(FrameWindow, ViewIsTheLastFramesInOrderAndDroppedIsTheFrameThatLeft) {
     }
     EXPECT_EQ(window.stats().valid_points, view.size());
   }
+}
+
+TEST(FrameWindow, MovesItsPointsAboutOncePerWindowLength) {
+  // Equal frames, as a scanner gives them: the window's first point lies further into the
+  // buffer after each push until the buffer is compacted, when it moves back (or the buffer is
+  // reallocated). The window must stay readable and be moved rarely, not every few pushes.
+  // 60 frames: the buffer, doubled as frames arrive, reached 62 frames, one more than the window
+  // and the frame it dropped last.
+  const PointCloud frame = testing::livox_like_frame(5, 1000);
+  constexpr int kWindow = 60, kPushes = 660;
+  FrameWindow window(kWindow);
+  const float* last_start = nullptr;
+  int moves = 0;
+  for (int k = 0; k < kPushes; ++k) {
+    window.push(frame, CloudStats{frame.size(), frame.size(), 0, 0});
+    const PointView view = window.view();
+    ASSERT_EQ(view.size(), frame.size() * static_cast<std::size_t>(std::min(k + 1, kWindow)));
+    ASSERT_EQ(view.x[view.size() - 1], frame.x.back());
+    const float* start = view.x.data;
+    if (k >= kWindow && start <= last_start) ++moves;  // steady state: moved back to the front
+    last_start = start;
+  }
+  // About (kPushes - kWindow) / kWindow = 10 with a buffer twice the window; one just larger
+  // than the window moved it on every push.
+  EXPECT_GT(moves, 3);
+  EXPECT_LT(moves, 20);
 }
 
 void expect_same_image(const ProjectedImage& incremental, const ProjectedImage& full,
