@@ -34,19 +34,25 @@ OutlineTally tally_outline(const Detection& detection, const ProjectedImage& ima
   const int c1 = std::min(image.mask.cols - 1, static_cast<int>(std::floor(u_max)));
   const int r0 = std::max(0, static_cast<int>(std::ceil(v_min)));
   const int r1 = std::min(image.mask.rows - 1, static_cast<int>(std::floor(v_max)));
+  // Inside a convex outline: on the inner side of every edge.
+  const auto inside = [&](int r, int c) {
+    for (std::size_t k = 0; k < outline.size(); ++k) {
+      const Vec2& a = outline[k];
+      const Vec2& b = outline[(k + 1) % outline.size()];
+      const double cross = (b.x() - a.x()) * (r - a.y()) - (b.y() - a.y()) * (c - a.x());
+      if (!(cross * turn >= 0)) return false;
+    }
+    return true;
+  };
   for (int r = r0; r <= r1; ++r) {
+    // Each edge's test is monotone along a row (so are the rounded operations that compute it),
+    // so a row's pixels inside are one run: found from its ends, then tallied without tests.
+    int lo = c0, hi = c1;
+    while (lo <= hi && !inside(r, lo)) ++lo;
+    while (hi >= lo && !inside(r, hi)) --hi;
     const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
     const std::int32_t* n = counted ? image.count.ptr<std::int32_t>(r) : nullptr;
-    for (int c = c0; c <= c1; ++c) {
-      // Inside a convex outline: on the inner side of every edge.
-      bool in = true;
-      for (std::size_t k = 0; k < outline.size() && in; ++k) {
-        const Vec2& a = outline[k];
-        const Vec2& b = outline[(k + 1) % outline.size()];
-        const double cross = (b.x() - a.x()) * (r - a.y()) - (b.y() - a.y()) * (c - a.x());
-        in = cross * turn >= 0;
-      }
-      if (!in) continue;
+    for (int c = lo; c <= hi; ++c) {
       ++t.inside;
       t.observed += m[c] ? 1 : 0;
       t.points += n ? static_cast<std::size_t>(std::max(0, n[c])) : (m[c] ? 1 : 0);

@@ -2,6 +2,11 @@
 // point, on masks whose answer is known.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <utility>
+
 #include "iilfm/marker_coverage.hpp"
 
 namespace iilfm {
@@ -51,6 +56,63 @@ TEST(MarkerCoverage, ATurnedSquareCountsOnlyItsInside) {
   const double coverage = marker_coverage(diamond, image);
   EXPECT_GT(coverage, 0.45);
   EXPECT_LT(coverage, 0.5);
+}
+
+// The definition, pixel by pixel: a pixel centre inside when on the inner side of every edge.
+std::pair<double, double> coverage_by_definition(const Detection& d, const ProjectedImage& image) {
+  const std::vector<Vec2>& q = d.corners_px;
+  double area = 0;
+  for (std::size_t k = 0; k < q.size(); ++k)
+    area += q[k].x() * q[(k + 1) % q.size()].y() - q[k].y() * q[(k + 1) % q.size()].x();
+  const double turn = area >= 0 ? 1.0 : -1.0;
+  double inside = 0, observed = 0, points = 0;
+  for (int r = 0; r < image.mask.rows; ++r)
+    for (int c = 0; c < image.mask.cols; ++c) {
+      bool in = true;
+      for (std::size_t k = 0; k < q.size(); ++k) {
+        const Vec2 &a = q[k], &b = q[(k + 1) % q.size()];
+        in = in && ((b.x() - a.x()) * (r - a.y()) - (b.y() - a.y()) * (c - a.x())) * turn >= 0;
+      }
+      if (!in) continue;
+      inside += 1;
+      observed += image.mask.at<std::uint8_t>(r, c) ? 1 : 0;
+      points += image.count.at<std::int32_t>(r, c);
+    }
+  return {inside ? observed / inside : 0.0, inside ? points / inside : 0.0};
+}
+
+TEST(MarkerCoverage, RandomQuadsGiveTheCountsOfTheDefinition) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coordinate(-5, 45), angle(0, 2 * M_PI), size(0.5, 25);
+  int nonzero = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    cv::Mat mask(40, 40, CV_8U), count(40, 40, CV_32S);
+    for (int r = 0; r < 40; ++r)
+      for (int c = 0; c < 40; ++c) {
+        const int n = static_cast<int>(rng() % 4);
+        count.at<std::int32_t>(r, c) = n;
+        mask.at<std::uint8_t>(r, c) = n ? 255 : 0;
+      }
+    ProjectedImage image = image_with_mask(mask);
+    image.count = count;
+    // A turned, sheared quad (convex), either way round; some with corners on pixel centres.
+    const Vec2 centre(coordinate(rng), coordinate(rng));
+    const double a = angle(rng), s = size(rng), t = size(rng);
+    Detection d;
+    d.family = "apriltag:tag36h11";
+    for (int k = 0; k < 4; ++k) {
+      const double turn = a + k * M_PI / 2 + (k % 2 ? 0.2 : 0.0);
+      Vec2 p = centre + (k % 2 ? s : t) * Vec2(std::cos(turn), std::sin(turn));
+      if (trial % 3 == 0) p = p.array().round();
+      d.corners_px.push_back(p);
+    }
+    if (trial % 2) std::reverse(d.corners_px.begin(), d.corners_px.end());
+    const auto [coverage, per_pixel] = coverage_by_definition(d, image);
+    EXPECT_EQ(marker_coverage(d, image), coverage) << trial;
+    EXPECT_EQ(marker_points_per_pixel(d, image), per_pixel) << trial;
+    nonzero += coverage > 0;
+  }
+  EXPECT_GT(nonzero, 200);
 }
 
 TEST(MarkerCoverage, OutsideTheImageOrDegenerateGivesZero) {
