@@ -233,8 +233,8 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     sin_az[k] = std::sin(azimuth);
   }
   thread_local detail::Buffer<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
-  // Sized for every pixel of the box (plus the one slot written past the last point) and written
-  // through plain pointers: a push_back per point reloaded the thread-local vectors' ends.
+  // Sized for every pixel of the box (each pixel is written to the next free slot, one spare) and
+  // written through plain pointers: a push_back per point reloaded the thread-local vectors' ends.
   std::size_t rows_in_box = 0;
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
