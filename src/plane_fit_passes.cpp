@@ -1,7 +1,6 @@
 #include "plane_fit_passes.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "cpu_clones.hpp"
@@ -17,13 +16,13 @@ constexpr std::size_t kLanes = 4;
 // Unaligned and allowed to alias doubles, so the coordinate arrays are read through it.
 using Lanes = double __attribute__((vector_size(kLanes * sizeof(double)), aligned(8), may_alias));
 
-// The helpers and lambdas of these passes take and give Lanes by value; they are inlined into the
-// clones, so no call crosses the AVX/SSE calling conventions GCC warns about.
-#pragma GCC diagnostic ignored "-Wpsabi"  // to the file's end: GCC warns as it emits code
-Lanes lanes_at(const double* p) { return *reinterpret_cast<const Lanes*>(p); }
+// The helpers take and give Lanes through references: a Lanes value passed between functions
+// built for different instruction sets (an AVX2 clone and a baseline helper) travels in
+// different registers, and a debug build does not inline the helpers (GCC's -Wpsabi).
+void load(const double* p, Lanes& out) { out = *reinterpret_cast<const Lanes*>(p); }
 
 // Lane sums added in one order: the same total for any vector width.
-double total(Lanes lanes) { return ((lanes[0] + lanes[1]) + lanes[2]) + lanes[3]; }
+double total(const Lanes& lanes) { return ((lanes[0] + lanes[1]) + lanes[2]) + lanes[3]; }
 
 IILFM_AVX2_CLONES void sums_of(const double* __restrict x, const double* __restrict y,
                                const double* __restrict z, std::size_t n, double rx, double ry,
@@ -31,7 +30,13 @@ IILFM_AVX2_CLONES void sums_of(const double* __restrict x, const double* __restr
   Lanes sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
   const std::size_t whole = n - n % kLanes;
   for (std::size_t k = 0; k < whole; k += kLanes) {
-    const Lanes a = lanes_at(x + k) - rx, b = lanes_at(y + k) - ry, c = lanes_at(z + k) - rz;
+    Lanes a, b, c;
+    load(x + k, a);
+    load(y + k, b);
+    load(z + k, c);
+    a -= rx;
+    b -= ry;
+    c -= rz;
     sx += a;
     sy += b;
     sz += c;
@@ -73,12 +78,12 @@ IILFM_AVX2_CLONES void residuals_of(const double* __restrict x, const double* __
 }
 
 // Lane-wise minimum and maximum; a NaN never wins.
-void take_range(Lanes v, Lanes& lo, Lanes& hi) {
+void take_range(const Lanes& v, Lanes& lo, Lanes& hi) {
   lo = v < lo ? v : lo;
   hi = v > hi ? v : hi;
 }
-double lowest(Lanes v) { return std::min({v[0], v[1], v[2], v[3]}); }
-double highest(Lanes v) { return std::max({v[0], v[1], v[2], v[3]}); }
+double lowest(const Lanes& v) { return std::min({v[0], v[1], v[2], v[3]}); }
+double highest(const Lanes& v) { return std::max({v[0], v[1], v[2], v[3]}); }
 
 IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __restrict y,
                                  const double* __restrict z, std::size_t n, const double* plane,
@@ -89,16 +94,23 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
   const double bx = plane[10], by = plane[11], bz = plane[12];
   Lanes sq{}, s1{}, s2{}, h1{}, h2{};
   Lanes lo1 = Lanes{} + 1e300, hi1 = Lanes{} - 1e300, lo2 = lo1, hi2 = hi1;
-  // A point's squared residual and in-plane coordinates, for lanes of points or for one point.
-  const auto terms = [&](auto px, auto py, auto pz) {
+  // A point's squared residual and in-plane coordinates, for lanes of points or for one point
+  // (through references, as the helpers above).
+  const auto terms = [&](const auto& px, const auto& py, const auto& pz, auto& r2, auto& x1,
+                         auto& x2) {
     const auto r = nx * px + ny * py + nz * pz - d;
     const auto qx = px - cx, qy = py - cy, qz = pz - cz;
-    return std::array<decltype(r), 3>{r * r, qx * ax + qy * ay + qz * az,
-                                      qx * bx + qy * by + qz * bz};
+    r2 = r * r;
+    x1 = qx * ax + qy * ay + qz * az;
+    x2 = qx * bx + qy * by + qz * bz;
   };
   const std::size_t whole = n - n % kLanes;
   for (std::size_t k = 0; k < whole; k += kLanes) {
-    const auto [r2, x1, x2] = terms(lanes_at(x + k), lanes_at(y + k), lanes_at(z + k));
+    Lanes px, py, pz, r2, x1, x2;
+    load(x + k, px);
+    load(y + k, py);
+    load(z + k, pz);
+    terms(px, py, pz, r2, x1, x2);
     sq += r2;
     s1 += x1 * x1;
     s2 += x2 * x2;
@@ -108,7 +120,8 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
     take_range(x2, lo2, hi2);
   }
   for (std::size_t k = whole; k < n; ++k) {  // the rest into lane 0
-    const auto [r2, x1, x2] = terms(x[k], y[k], z[k]);
+    double r2, x1, x2;
+    terms(x[k], y[k], z[k], r2, x1, x2);
     sq[0] += r2;
     s1[0] += x1 * x1;
     s2[0] += x2 * x2;
@@ -153,7 +166,11 @@ IILFM_AVX2_CLONES void range_of(const double* __restrict v, std::size_t n, doubl
                                 double& hi_out) {
   Lanes lo = Lanes{} + v[0], hi = lo;
   const std::size_t whole = n - n % kLanes;
-  for (std::size_t k = 0; k < whole; k += kLanes) take_range(lanes_at(v + k), lo, hi);
+  for (std::size_t k = 0; k < whole; k += kLanes) {
+    Lanes values;
+    load(v + k, values);
+    take_range(values, lo, hi);
+  }
   for (std::size_t k = whole; k < n; ++k) {
     lo[0] = v[k] < lo[0] ? v[k] : lo[0];
     hi[0] = v[k] > hi[0] ? v[k] : hi[0];
