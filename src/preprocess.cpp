@@ -334,11 +334,15 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   // Hole filling alternates between two reused buffer pairs (a pass reads the previous one).
   const cv::Mat* values = source;
   const cv::Mat* mask = &image.mask;
+  // Blocks on ring images, whose sky and full rings leave most blocks uniform (above), and after
+  // the first pass on images of about a point per pixel (many Livox frames integrated), which it
+  // leaves observed nearly throughout (86 % of the 60-frame Mid-40 image's blocks).
+  const bool dense = static_cast<double>(image.points_projected) >=
+                     0.5 * static_cast<double>(image.intensity.total());
   for (int pass = 0; options.fill_holes && pass < std::max(1, options.fill_passes); ++pass) {
     PreprocessedImage::Buffers& into = out.work[pass % 2];
-    // Blocks on ring images, whose sky and full rings leave most blocks uniform (above).
-    fill_holes(*values, *mask, options.fill_min_neighbours, image.geometry.ring_rows(), into.values,
-               into.mask);
+    fill_holes(*values, *mask, options.fill_min_neighbours,
+               image.geometry.ring_rows() || (pass > 0 && dense), into.values, into.mask);
     values = &into.values;
     mask = &into.mask;
   }
