@@ -232,7 +232,12 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     cos_az[k] = std::cos(azimuth);
     sin_az[k] = std::sin(azimuth);
   }
-  thread_local detail::Buffer<std::pair<std::uint32_t, std::uint32_t>> single;  // (slot, point)
+  // A single-point pixel's slot among the gathered points and its point in the cloud. No member
+  // initialisers: the buffer's new elements stay unwritten (a std::pair would zero them).
+  struct SinglePoint {
+    std::uint32_t slot, point;
+  };
+  thread_local detail::Buffer<SinglePoint> single;
   // Sized for every pixel of the box (each pixel is written to the next free slot, one spare) and
   // written through plain pointers: a push_back per point reloaded the thread-local vectors' ends.
   std::size_t rows_in_box = 0;
@@ -249,7 +254,7 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
   double* __restrict ys = fit.y.data();
   double* __restrict zs = fit.z.data();
   std::uint8_t* __restrict labelled = out.label.data();
-  std::pair<std::uint32_t, std::uint32_t>* __restrict singles = single.data();
+  SinglePoint* __restrict singles = single.data();
   std::size_t n = 0, n_single = 0;
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
@@ -286,13 +291,13 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
   constexpr std::size_t kAhead = 16;
   for (std::size_t k = 0; k < single.size(); ++k) {
     if (k + kAhead < single.size()) {
-      const std::size_t ahead = single[k + kAhead].second;
+      const std::size_t ahead = single[k + kAhead].point;
       __builtin_prefetch(cloud.x.data + static_cast<std::ptrdiff_t>(ahead) * cloud.x.stride);
       __builtin_prefetch(cloud.y.data + static_cast<std::ptrdiff_t>(ahead) * cloud.y.stride);
       __builtin_prefetch(cloud.z.data + static_cast<std::ptrdiff_t>(ahead) * cloud.z.stride);
     }
-    const Vec3 p = cloud.point(single[k].second);
-    const std::size_t slot = single[k].first;
+    const Vec3 p = cloud.point(single[k].point);
+    const std::size_t slot = single[k].slot;
     xs[slot] = p.x();
     ys[slot] = p.y();
     zs[slot] = p.z();
