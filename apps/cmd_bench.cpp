@@ -77,6 +77,7 @@ Row measure(const std::string& name, const BenchArgs& args) {
   eval::BenchScan scan = eval::make_bench_scan(name);
   scan.options.projection.threads = args.threads;
   scan.options.lift_threads = args.threads;
+  scan.options.preprocess.threads = args.threads;
   const PointCloud& cloud = scan.scan.scan.cloud;
   const std::string path = "/tmp/iilfm-bench-" + std::to_string(::getpid()) + "-" + name + ".pcd";
   io::write_pcd(path, cloud);
@@ -126,9 +127,8 @@ std::string cell(const Spread& s) {
 
 void print(const std::vector<Row>& rows, const BenchArgs& args) {
   std::printf(
-      "iilfm bench: %d runs per scan after 3 warm-up runs, threads %d (projection, lift);"
-      " times in ms,"
-      " median (10th-90th percentile)\n\n",
+      "iilfm bench: %d runs per scan after 3 warm-up runs, threads %d (projection, preprocessing,"
+      " lift); times in ms, median (10th-90th percentile)\n\n",
       args.repeat, args.threads);
   const char* sep = args.markdown ? " | " : "  ";
   if (args.markdown) {
@@ -165,8 +165,9 @@ Runner register_bench_command(CLI::App& app) {
   for (const std::string& n : eval::bench_scan_names()) known += (known.empty() ? "" : ", ") + n;
   cmd->add_option("--scan", args->scans, "Scans to time (default: all of " + known + ")");
   cmd->add_option("--repeat", args->repeat, "Timed runs per scan")->check(CLI::Range(1, 100000));
-  cmd->add_option("--threads", args->threads,
-                  "threads for projecting large clouds and for lifting several markers")
+  cmd->add_option(
+         "--threads", args->threads,
+         "threads for projecting and preprocessing large clouds and for lifting several markers")
       ->check(CLI::Range(1, 64));
   cmd->add_flag("--markdown", args->markdown, "Print a Markdown table");
   return [args] {

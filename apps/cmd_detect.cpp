@@ -159,6 +159,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.decode_gray = !args.no_gray_decode;
   options.projection.threads = args.threads;
   options.lift_threads = args.threads;
+  options.preprocess.threads = args.threads;
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;
@@ -406,8 +407,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-gray-decode", args->no_gray_decode,
                 "AprilTag: segment and decode the binary image itself, not the gray pixels inside "
                 "its search regions");
-  cmd->add_option("--threads", args->threads,
-                  "threads for projecting large clouds and for lifting several markers")
+  cmd->add_option(
+         "--threads", args->threads,
+         "threads for projecting and preprocessing large clouds and for lifting several markers")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--aruco-refine", args->aruco_refine,

@@ -73,7 +73,8 @@ void BM_Detect(benchmark::State& state, const std::string& name) {
 void BM_Pipeline(benchmark::State& state, const std::string& name) {
   const bench::Scan& s = scan(name);
   PipelineOptions options = s.options;
-  options.projection.threads = options.lift_threads = static_cast<int>(state.range(0));
+  options.projection.threads = options.lift_threads = options.preprocess.threads =
+      static_cast<int>(state.range(0));
   Pipeline pipeline(options);
   for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(s.scan.scan.cloud).markers.size());
   bench::report_points(state, s.scan.scan.cloud.size());

@@ -10,6 +10,7 @@
 #include "cpu_clones.hpp"
 #include "hole_classes.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "parallel_parts.hpp"
 
 namespace iilfm {
 
@@ -29,11 +30,13 @@ namespace {
 // Measured, both passes alone: ring images 40 % faster (ULTRA Puck 0.072 -> 0.041 ms, OS1-128
 // 0.34 -> 0.19; 90 % of their blocks skipped), but 1- and 10-frame Mid-40 images 10-15 % slower
 // (few blocks to skip, and the flags cost about 1/8 of a row's sums).
+//
+// Writes rows [first_row, end_row) of `filled` and `filled_mask`, which the caller has sized like
+// `intensity`: parts of the rows may go to different threads.
 IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask, int min_neighbours,
-                                  bool skip_uniform_blocks, cv::Mat& filled, cv::Mat& filled_mask) {
+                                  bool skip_uniform_blocks, int first_row, int end_row,
+                                  cv::Mat& filled, cv::Mat& filled_mask) {
   const int rows = intensity.rows, cols = intensity.cols;
-  filled.create(rows, cols, CV_32F);
-  filled_mask.create(rows, cols, CV_8U);
   constexpr int kBlock = 32;
   constexpr std::uint8_t kAny = 1, kEvery = 2;                 // a block's flags
   constexpr std::uint8_t kSum = 0, kObserved = 1, kEmpty = 2;  // what to do with it
@@ -110,8 +113,9 @@ IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask,
       b = end;
     }
   };
-  if (rows > 0) load_row(0);
-  for (int r = 0; r < rows; ++r) {
+  if (first_row > 0) load_row(first_row - 1);
+  if (first_row < end_row) load_row(first_row);
+  for (int r = first_row; r < end_row; ++r) {
     if (r + 1 < rows) load_row(r + 1);  // into the slot of row r - 2, no longer needed
     const std::size_t s0 = slot_of(r - 1) * padded, s1 = slot_of(r) * padded,
                       s2 = slot_of(r + 1) * padded;
@@ -270,18 +274,18 @@ cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double glo
   return above;
 }
 
-// 8-bit gray for display and for Otsu: intensity scaled so `scale` maps to 255; pixels still
-// unobserved get `unobserved`. A row that repeats the one above is copied.
+// 8-bit gray for display and for Otsu, rows [first_row, end_row) of `gray` (sized by the caller):
+// intensity scaled so `scale` maps to 255; pixels still unobserved get `unobserved`. A row that
+// repeats the one above is copied, except the first (the row above may be another thread's).
 IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid,
                                const std::vector<std::uint8_t>& repeats_row_above, double scale,
-                               int unobserved, cv::Mat& gray) {
-  gray.create(filled.size(), CV_8U);
+                               int unobserved, int first_row, int end_row, cv::Mat& gray) {
   const float factor = static_cast<float>(255.0 / scale);
   const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
   const int cols = filled.cols;  // a local: the byte stores below could alias the Mat's fields
-  for (int r = 0; r < filled.rows; ++r) {
+  for (int r = first_row; r < end_row; ++r) {
     std::uint8_t* __restrict g = gray.ptr<std::uint8_t>(r);
-    if (repeats_row_above[static_cast<std::size_t>(r)]) {
+    if (r > first_row && repeats_row_above[static_cast<std::size_t>(r)]) {
       std::memcpy(g, gray.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(cols));
       continue;
     }
@@ -298,18 +302,19 @@ IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid,
   }
 }
 
-// The naive global threshold: 255 where brighter than `threshold`, 0 where not, `unobserved`
-// where no value is known. A row that repeats the one above is copied.
+// The naive global threshold, rows [first_row, end_row) of `detect` (sized by the caller): 255
+// where brighter than `threshold`, 0 where not, `unobserved` where no value is known. A row that
+// repeats the one above is copied, except the first.
 IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
                                 const std::vector<std::uint8_t>& repeats_row_above,
-                                double threshold, int unobserved, cv::Mat& detect) {
-  detect.create(filled.size(), CV_8U);
+                                double threshold, int unobserved, int first_row, int end_row,
+                                cv::Mat& detect) {
   const float t = static_cast<float>(threshold);
   const std::uint8_t hole = cv::saturate_cast<std::uint8_t>(unobserved);
   const int cols = filled.cols;
-  for (int r = 0; r < filled.rows; ++r) {
+  for (int r = first_row; r < end_row; ++r) {
     std::uint8_t* __restrict d = detect.ptr<std::uint8_t>(r);
-    if (repeats_row_above[static_cast<std::size_t>(r)]) {
+    if (r > first_row && repeats_row_above[static_cast<std::size_t>(r)]) {
       std::memcpy(d, detect.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(cols));
       continue;
     }
@@ -322,10 +327,24 @@ IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
   }
 }
 
+// Calls pass(first_row, end_row) for `parts` contiguous ranges of an image's `rows`, each on its
+// own thread (detail::in_parts); a pass writes only its own rows.
+template <typename Pass>
+void in_row_parts(int rows, int parts, const Pass& pass) {
+  detail::in_parts(parts, [&](int k, int count) {
+    const auto [first, end] = detail::part_range(static_cast<std::size_t>(rows), k, count);
+    pass(static_cast<int>(first), static_cast<int>(end));
+  });
+}
+
 }  // namespace
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                 PreprocessedImage& out) {
+  // Threads take at least this many of the projected image's pixels each: a ring image's few
+  // thousand (its rows are copied out to square pixels) are done before a thread has started.
+  constexpr std::size_t kMinPixelsPerPart = 65536;
+  const int parts = detail::parts_for(options.threads, image.intensity.total(), kMinPixelsPerPart);
   const cv::Mat* source = &image.intensity;
   if (options.normalise.mode != IntensityNormalisation::kNone) {
     normalise_intensity(image, options.normalise, out.normalise_work, out.normalised);
@@ -341,8 +360,13 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                      0.5 * static_cast<double>(image.intensity.total());
   for (int pass = 0; options.fill_holes && pass < std::max(1, options.fill_passes); ++pass) {
     PreprocessedImage::Buffers& into = out.work[pass % 2];
-    fill_holes(*values, *mask, options.fill_min_neighbours,
-               image.geometry.ring_rows() || (pass > 0 && dense), into.values, into.mask);
+    into.values.create(values->size(), CV_32F);
+    into.mask.create(values->size(), CV_8U);
+    const bool by_blocks = image.geometry.ring_rows() || (pass > 0 && dense);
+    in_row_parts(values->rows, parts, [&](int first_row, int end_row) {
+      fill_holes(*values, *mask, options.fill_min_neighbours, by_blocks, first_row, end_row,
+                 into.values, into.mask);
+    });
     values = &into.values;
     mask = &into.mask;
   }
@@ -365,12 +389,30 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   // next frame, which rewrites `out` whole anyway (a copy cost 0.02 ms on a Mid-40 image).
   out.valid = filled_mask;
   out.intensity_scale = robust_max(*source, image.mask);
-  to_gray(filled, filled_mask, out.repeats_row_above, out.intensity_scale, options.unobserved_value,
-          out.gray);
-
-  out.threshold = options.threshold ? *options.threshold
-                                    : otsu_threshold(out.gray, filled_mask, out.repeats_row_above,
-                                                     out.intensity_scale);
+  out.gray.create(filled.size(), CV_8U);
+  const auto gray_rows = [&](int first_row, int end_row) {
+    to_gray(filled, filled_mask, out.repeats_row_above, out.intensity_scale,
+            options.unobserved_value, first_row, end_row, out.gray);
+  };
+  const bool naive = options.binarize && !options.local_threshold;
+  const auto binary_rows = [&](int first_row, int end_row) {
+    binarize(filled, filled_mask, out.repeats_row_above, out.threshold, options.unobserved_value,
+             first_row, end_row, out.detect);
+  };
+  if (naive) out.detect.create(filled.size(), CV_8U);
+  if (options.threshold) {
+    out.threshold = *options.threshold;
+    // Both images in one pass over the rows when the threshold is known up front.
+    in_row_parts(filled.rows, parts, [&](int first_row, int end_row) {
+      gray_rows(first_row, end_row);
+      if (naive) binary_rows(first_row, end_row);
+    });
+  } else {
+    in_row_parts(filled.rows, parts, gray_rows);
+    out.threshold =
+        otsu_threshold(out.gray, filled_mask, out.repeats_row_above, out.intensity_scale);
+    if (naive) in_row_parts(filled.rows, parts, binary_rows);
+  }
   if (!options.binarize) {
     out.gray.copyTo(out.detect);
   } else if (options.local_threshold) {
@@ -381,8 +423,6 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     out.detect.setTo(255, above & filled_mask);
     out.detect.setTo(options.unobserved_value, filled_mask == 0);
   } else {
-    binarize(filled, filled_mask, out.repeats_row_above, out.threshold, options.unobserved_value,
-             out.detect);
     // Holes take the class of their surroundings: a constant for all holes drew the gaps between
     // a sparse rosette's petals (a 10-frame Mid-40 image is 80 % unobserved away from its centre)
     // as thousands of black streaks on a white wall: no marker, but 3-5 times AprilTag's

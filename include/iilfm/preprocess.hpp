@@ -42,6 +42,9 @@ struct PreprocessOptions {
   // observed pixels in its block of this many pixels square and the 8 blocks around, white when
   // there is none; 0 gives every such pixel `unobserved_value` instead. At most 64.
   int hole_class_block = 2;
+  // Threads for hole filling, the gray image and the threshold, each taking a part of the rows
+  // (at least 64k pixels): the same images for any count. `--threads` sets it.
+  int threads = 1;
 };
 
 // classify_holes' counts (src/hole_classes.hpp): per column, per block, each block with its left

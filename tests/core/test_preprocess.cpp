@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -371,6 +372,86 @@ TEST(Preprocess, RowsRepeatedBySquarePixelsGiveWhatEveryRowComputedGives) {
                                                                     : 0;
       ASSERT_EQ(out.detect.at<uchar>(r, c), expected) << r << ", " << c;
     }
+}
+
+// PreprocessOptions::threads: rows split between threads give the images of one thread, for a
+// known and an Otsu threshold, a dense and a sparse image (the second filling pass by blocks or
+// not), and a ring image resampled to square pixels (a part starting on a repeated row).
+TEST(Preprocess, ThreadsGiveTheOneThreadImages) {
+  constexpr double kDeg = M_PI / 180.0;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> level(0, 200);
+  std::uniform_int_distribution<int> stretch(1, 200);
+  const auto random_image = [&](ProjectedImage& img, double observed_share) {
+    const int rows = img.geometry.height, cols = img.geometry.width;
+    img.intensity = cv::Mat(rows, cols, CV_32F);
+    img.mask = cv::Mat(rows, cols, CV_8U);
+    img.range = cv::Mat(rows, cols, CV_32F, cv::Scalar(5));
+    std::bernoulli_distribution seen(observed_share);
+    for (int r = 0; r < rows; ++r) {
+      if (r > 0 && rng() % 10 < 5) {
+        img.mask.row(r - 1).copyTo(img.mask.row(r));
+      } else {
+        for (int c = 0; c < cols;) {
+          const bool kind = seen(rng);
+          const int end = std::min(cols, c + stretch(rng));
+          for (; c < end; ++c) img.mask.at<uchar>(r, c) = kind || seen(rng) ? 255 : 0;
+        }
+      }
+      for (int c = 0; c < cols; ++c)
+        img.intensity.at<float>(r, c) = img.mask.at<uchar>(r, c) ? level(rng) : 1e6f;
+    }
+    img.points_projected = static_cast<std::size_t>(cv::countNonZero(img.mask));
+  };
+  struct Case {
+    const char* name;
+    ProjectedImage image;
+    std::optional<double> threshold;
+  };
+  std::vector<Case> cases(4);
+  cases[0].name = "dense, known threshold";
+  cases[0].image.geometry = geometry_for_bounds({-0.3, 0.3, -0.2, 0.2}, 0.001, 0.001);
+  random_image(cases[0].image, 0.8);
+  cases[0].threshold = 100;
+  cases[1].name = "sparse, Otsu";
+  cases[1].image.geometry = cases[0].image.geometry;
+  random_image(cases[1].image, 0.3);
+  cases[2].name = "dense, Otsu";
+  cases[2].image.geometry = cases[0].image.geometry;
+  random_image(cases[2].image, 0.9);
+  cases[3].name = "ring rows to square pixels";
+  cases[3].image.geometry =
+      geometry_for_bounds({-3, 3, -16 * kDeg, 16 * kDeg}, 0.1 * kDeg, 0.5 * kDeg);
+  for (int r = 0; r < cases[3].image.geometry.height; ++r)
+    cases[3].image.geometry.row_elevation.push_back((16 - 0.5 * r) * kDeg);
+  cases[3].image.geometry.v0 = 0;
+  random_image(cases[3].image, 0.8);
+  cases[3].threshold = 100;
+  for (const Case& c : cases) {
+    ASSERT_GE(c.image.intensity.total(), 3u * 65536u) << c.name << ": too small to split";
+    PreprocessOptions opt;
+    opt.threshold = c.threshold;
+    PreprocessedImage one, split;
+    preprocess(c.image, opt, one);
+    for (int threads : {2, 3}) {
+      opt.threads = threads;
+      for (int run = 0; run < 2; ++run) {  // reused buffers too
+        preprocess(c.image, opt, split);
+        ASSERT_EQ(one.gray.size(), split.gray.size()) << c.name;
+        EXPECT_EQ(cv::norm(one.gray, split.gray, cv::NORM_INF), 0) << c.name << threads;
+        EXPECT_EQ(cv::norm(one.detect, split.detect, cv::NORM_INF), 0) << c.name << threads;
+        EXPECT_EQ(cv::norm(one.valid, split.valid, cv::NORM_INF), 0) << c.name << threads;
+        EXPECT_EQ(one.threshold, split.threshold) << c.name << threads;
+      }
+    }
+    // The images hold both levels and filled holes: a comparison that could fail.
+    EXPECT_GT(cv::countNonZero(one.detect), 0) << c.name;
+    EXPECT_GT(cv::countNonZero(one.valid) - cv::countNonZero(c.image.mask), 0) << c.name;
+  }
+  EXPECT_GT(cases[3].image.geometry.row_elevation.size(), 1u);
+  PreprocessedImage rings;
+  preprocess(cases[3].image, PreprocessOptions{}, rings);
+  EXPECT_GT(rings.gray.rows, 2 * cases[3].image.intensity.rows) << "no square pixels";
 }
 
 }  // namespace

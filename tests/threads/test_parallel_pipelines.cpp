@@ -1,13 +1,15 @@
 // Several Pipeline objects, one per thread, on different scans at once give exactly what each gives
 // alone: nothing in the pipeline, its detectors or its options is shared mutable state. The same
-// for a pipeline's own threads (projection, lift). Built and run under ThreadSanitizer by
-// scripts/tsan.sh (CI), which also reports any data race it sees.
+// for a pipeline's own threads (projection, preprocessing, lift). Built and run under
+// ThreadSanitizer by scripts/tsan.sh (CI), which also reports any data race it sees.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <thread>
 #include <vector>
 
 #include "iilfm/pipeline.hpp"
+#include "iilfm/preprocess.hpp"
 #include "iilfm/projection.hpp"
 #include "iilfm/sensor.hpp"
 #include "iilfm/sim/scenes.hpp"
@@ -136,6 +138,34 @@ TEST(ProjectionThreads, SplitPassesGiveTheOneThreadImages) {
     EXPECT_EQ(one.points_projected, three.points_projected);
   }
   EXPECT_GT(one.points_projected, 60000u);
+}
+
+TEST(PreprocessThreads, SplitRowsGiveTheOneThreadImages) {
+  // PreprocessOptions::threads under ThreadSanitizer: the OS1-64 sweep in ring rows of 0.1 deg
+  // columns, resampled to square pixels (rows repeated, the case where a part must not copy the
+  // row above it), its rows split between three threads, with Otsu's threshold and a known one.
+  const PointCloud& cloud = scans().scans[0].cloud;
+  ProjectionOptions projection;
+  projection.res_h_deg = 0.1;
+  projection.rows = RowLayout::kRings;
+  ProjectedImage image;
+  SphericalProjector(projection).project(cloud, image);
+  ASSERT_GE(image.intensity.total(), 3u * 65536u);
+  for (const std::optional<double> threshold : {std::optional<double>(), std::optional(40.0)}) {
+    PreprocessOptions options;
+    options.threshold = threshold;
+    PreprocessedImage one, three;
+    preprocess(image, options, one);
+    ASSERT_GT(one.gray.rows, 2 * image.intensity.rows);  // square pixels
+    options.threads = 3;
+    for (int run = 0; run < 2; ++run) {
+      preprocess(image, options, three);
+      EXPECT_EQ(cv::norm(one.gray, three.gray, cv::NORM_INF), 0);
+      EXPECT_EQ(cv::norm(one.detect, three.detect, cv::NORM_INF), 0);
+      EXPECT_EQ(cv::norm(one.valid, three.valid, cv::NORM_INF), 0);
+      EXPECT_EQ(one.threshold, three.threshold);
+    }
+  }
 }
 
 TEST(LiftThreads, MarkersLiftedOnThreadsGiveTheOneThreadResults) {
