@@ -8,6 +8,7 @@
 
 #include "cpu_clones.hpp"
 #include "iilfm/projection.hpp"
+#include "parallel_parts.hpp"
 
 namespace iilfm {
 
@@ -39,10 +40,12 @@ struct WindowMean {
   }
 };
 
-// Window sums to window means, in place, where the window holds an observed pixel.
-IILFM_AVX2_CLONES void to_means(const cv::Mat& count, cv::Mat& range, cv::Mat& col, cv::Mat& row) {
+// Window sums to window means, in place, where the window holds an observed pixel: rows
+// [first, end).
+IILFM_AVX2_CLONES void to_means(const cv::Mat& count, cv::Mat& range, cv::Mat& col, cv::Mat& row,
+                                int first, int end) {
   const int cols = count.cols;
-  for (int r = 0; r < count.rows; ++r) {
+  for (int r = first; r < end; ++r) {
     const float* __restrict n = count.ptr<float>(r);
     float* __restrict rs = range.ptr<float>(r);
     float* __restrict cs = col.ptr<float>(r);
@@ -147,36 +150,50 @@ IILFM_AVX2_CLONES void add_terms(const float* const* terms, int count, int cols,
   }
 }
 
-// Sum of `in` (CV_32F) over the (2a+1) x (2b+1) window about every pixel, zero outside the image.
-// Small windows (the Ouster presets': 7 x 7 at 1024 columns) are summed directly, across then
-// down, each sum's terms in a fixed order (four cv::boxFilter calls took 1.65 ms on the OS1-128
-// bench image; the direct sums took `Preprocess/os1-128` from 2.4-2.9 to 1.9 ms); larger ones go
-// to cv::boxFilter, whose running sums cost the same at any size.
-void window_sums(const cv::Mat& in, int a, int b, NormalisationBuffers& work, cv::Mat& sum) {
-  constexpr int kDirectMax = 8;
-  if (a > kDirectMax || b > kDirectMax) {
-    cv::boxFilter(in, sum, CV_32F, cv::Size(2 * a + 1, 2 * b + 1), cv::Point(-1, -1), false,
-                  cv::BORDER_CONSTANT);
-    return;
-  }
-  const int rows = in.rows, cols = in.cols;
-  work.across.create(rows, cols, CV_32F);
-  sum.create(rows, cols, CV_32F);
-  work.padded.assign(static_cast<std::size_t>(cols + 2 * a), 0.0f);
-  float* padded = work.padded.data();
+// Window sums of `in` (CV_32F) over the (2a+1) x (2b+1) window about every pixel, zero outside the
+// image. Small windows (the Ouster presets': 7 x 7 at 1024 columns) are summed directly, across
+// then down, each sum's terms in a fixed order (four cv::boxFilter calls took 1.65 ms on the
+// OS1-128 bench image; the direct sums took `Preprocess/os1-128` from 2.4-2.9 to 1.9 ms); larger
+// ones go to cv::boxFilter, whose running sums cost the same at any size.
+constexpr int kDirectMax = 8;
+
+// Rows [first, end) of the sums along rows over 2a + 1 columns, into `across`; `padded` is the
+// calling thread's row with zero borders.
+void sums_across(const cv::Mat& in, int a, int first, int end, std::vector<float>& padded,
+                 cv::Mat& across) {
+  const int cols = in.cols;
+  padded.assign(static_cast<std::size_t>(cols + 2 * a), 0.0f);
   const float* terms[2 * kDirectMax + 1];
-  for (int k = 0; k <= 2 * a; ++k) terms[k] = padded + k;
-  for (int r = 0; r < rows; ++r) {
+  for (int k = 0; k <= 2 * a; ++k) terms[k] = padded.data() + k;
+  for (int r = first; r < end; ++r) {
     const float* row = in.ptr<float>(r);
-    std::copy(row, row + cols, padded + a);
-    add_terms(terms, 2 * a + 1, cols, work.across.ptr<float>(r));
-  }
-  for (int r = 0; r < rows; ++r) {
-    const int first = std::max(0, r - b), last = std::min(rows - 1, r + b);
-    for (int rr = first; rr <= last; ++rr) terms[rr - first] = work.across.ptr<float>(rr);
-    add_terms(terms, last - first + 1, cols, sum.ptr<float>(r));
+    std::copy(row, row + cols, padded.data() + a);
+    add_terms(terms, 2 * a + 1, cols, across.ptr<float>(r));
   }
 }
+
+// Rows [first, end) of the sums of `across` down 2b + 1 rows, into `sum`.
+void sums_down(const cv::Mat& across, int b, int first, int end, cv::Mat& sum) {
+  const float* terms[2 * kDirectMax + 1];
+  for (int r = first; r < end; ++r) {
+    const int top = std::max(0, r - b), bottom = std::min(across.rows - 1, r + b);
+    for (int rr = top; rr <= bottom; ++rr) terms[rr - top] = across.ptr<float>(rr);
+    add_terms(terms, bottom - top + 1, across.cols, sum.ptr<float>(r));
+  }
+}
+
+// Calls pass(first_row, end_row) for `parts` contiguous ranges of `rows`, each on its own thread
+// (detail::in_parts); a pass writes only its own rows.
+template <typename Pass>
+void in_row_parts(int rows, int parts, const Pass& pass) {
+  detail::in_parts(parts, [&](int k, int count) {
+    const auto [first, end] = detail::part_range(static_cast<std::size_t>(rows), k, count);
+    pass(static_cast<int>(first), static_cast<int>(end));
+  });
+}
+
+// Threads take at least this many pixels each (detail::parts_for).
+constexpr std::size_t kMinPixelsPerPart = 65536;
 
 }  // namespace
 
@@ -201,95 +218,124 @@ const char* to_string(IntensityNormalisation mode) {
 // move them), which averages the range noise of the window's points; a side without observed
 // pixels is replaced by the window around the pixel itself.
 void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOptions& options,
-                            NormalisationBuffers& work, cv::Mat& cos_incidence) {
+                            NormalisationBuffers& work, cv::Mat& cos_incidence, int threads) {
   const ImageGeometry& g = image.geometry;
   const int rows = image.range.rows, cols = image.range.cols;
   cos_incidence.create(rows, cols, CV_32F);
-  cos_incidence.setTo(1.0f);
-  if (rows == 0 || cols == 0 || !(g.res_h > 0) || !(g.res_v > 0)) return;
+  if (rows == 0 || cols == 0 || !(g.res_h > 0) || !(g.res_v > 0)) {
+    cos_incidence.setTo(1.0f);
+    return;
+  }
   const double half = options.normal_half_window_deg * kDegToRad;
   const int a = std::max(1, static_cast<int>(std::lround(half / g.res_h)));
   const int b = std::max(1, static_cast<int>(std::lround(half / g.res_v)));
-  image.mask.convertTo(work.weight, CV_32F, 1.0 / 255.0);
-  work.weighted_col.create(rows, cols, CV_32F);
-  work.weighted_row.create(rows, cols, CV_32F);
-  for (int r = 0; r < rows; ++r) {
-    const float* __restrict w = work.weight.ptr<float>(r);
-    float* __restrict wc = work.weighted_col.ptr<float>(r);
-    float* __restrict wr = work.weighted_row.ptr<float>(r);
-    for (int c = 0; c < cols; ++c) {
-      wc[c] = w[c] * static_cast<float>(c);
-      wr[c] = w[c] * static_cast<float>(r);
-    }
-  }
+  const bool direct = a <= kDirectMax && b <= kDirectMax;
+  const int parts = detail::parts_for(threads, image.range.total(), kMinPixelsPerPart);
   // The range image is 0 where unobserved, so its window sum is the observed pixels' sum. Column
   // and row sums are sums of integers below 2^24: exact in float.
-  auto box = [&](const cv::Mat& in, cv::Mat& sum) { window_sums(in, a, b, work, sum); };
-  box(image.range, work.range_sum);
-  box(work.weight, work.weight_sum);
-  box(work.weighted_col, work.col_sum);
-  box(work.weighted_row, work.row_sum);
-  to_means(work.weight_sum, work.range_sum, work.col_sum, work.row_sum);
+  const cv::Mat* inputs[4] = {&image.range, &work.weight, &work.weighted_col, &work.weighted_row};
+  cv::Mat* sums[4] = {&work.range_sum, &work.weight_sum, &work.col_sum, &work.row_sum};
+  for (cv::Mat* m : {&work.weight, &work.weighted_col, &work.weighted_row, &work.range_sum,
+                     &work.weight_sum, &work.col_sum, &work.row_sum})
+    m->create(rows, cols, CV_32F);
+  for (cv::Mat& m : work.across) m.create(rows, cols, CV_32F);
+  // Three passes over the rows, each after the whole of the one before: a window reaches b rows
+  // into the neighbouring parts. Weights and the sums along rows, then down, then the cosines.
+  in_row_parts(rows, parts, [&](int first, int end) {
+    for (int r = first; r < end; ++r) {
+      const std::uint8_t* __restrict m = image.mask.ptr<std::uint8_t>(r);
+      float* __restrict w = work.weight.ptr<float>(r);
+      float* __restrict wc = work.weighted_col.ptr<float>(r);
+      float* __restrict wr = work.weighted_row.ptr<float>(r);
+      for (int c = 0; c < cols; ++c) {
+        w[c] = m[c] ? 1.0f : 0.0f;  // masks hold 0 or 255
+        wc[c] = w[c] * static_cast<float>(c);
+        wr[c] = w[c] * static_cast<float>(r);
+      }
+    }
+    if (!direct) return;
+    thread_local std::vector<float> padded;
+    for (int k = 0; k < 4; ++k) sums_across(*inputs[k], a, first, end, padded, work.across[k]);
+  });
+  if (!direct)
+    for (int k = 0; k < 4; ++k)
+      cv::boxFilter(*inputs[k], *sums[k], CV_32F, cv::Size(2 * a + 1, 2 * b + 1), cv::Point(-1, -1),
+                    false, cv::BORDER_CONSTANT);
+  in_row_parts(rows, parts, [&](int first, int end) {
+    if (direct)
+      for (int k = 0; k < 4; ++k) sums_down(work.across[k], b, first, end, *sums[k]);
+    to_means(work.weight_sum, work.range_sum, work.col_sum, work.row_sum, first, end);
+  });
   const WindowMean mean{work.range_sum, work.weight_sum, work.col_sum, work.row_sum};
   const float max_gain_sq =
       static_cast<float>(1.0 / (options.min_cos_incidence * options.min_cos_incidence));
 
-  for (int r = 0; r < rows; ++r) {
-    const int up = std::max(0, r - b), down = std::min(rows - 1, r + b);
-    const double el = g.elevation_of_v(r);
-    // Elevation per row about this row (ring rows are not evenly spaced).
-    const double per_row =
-        down > up ? std::abs(g.elevation_of_v(up) - g.elevation_of_v(down)) / (down - up) : g.res_v;
-    const float per_az = static_cast<float>(1.0 / (g.res_h * std::max(0.05, std::cos(el))));
-    const float per_el = static_cast<float>(1.0 / per_row);
-    const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
-    float* out = cos_incidence.ptr<float>(r);
-    // Near the left and right borders a side window is clamped to the image: per pixel.
-    const auto at_border = [&](int c) {
-      if (!m[c]) return;
-      const WindowMean::Value centre = mean.at(r, c);
-      if (!centre.valid || !(centre.range > 0)) return;
-      WindowMean::Value left = mean.at(r, std::max(0, c - a));
-      WindowMean::Value right = mean.at(r, std::min(cols - 1, c + a));
-      WindowMean::Value above = mean.at(up, c), below = mean.at(down, c);
-      if (!left.valid) left = centre;
-      if (!right.valid) right = centre;
-      if (!above.valid) above = centre;
-      if (!below.valid) below = centre;
-      out[c] = cos_incidence_of(right.range - left.range, right.col - left.col,
-                                above.range - below.range, below.row - above.row, centre.range,
-                                per_az, per_el, max_gain_sq);
-    };
-    const int inner_begin = std::min(a, cols), inner_end = std::max(inner_begin, cols - a);
-    for (int c = 0; c < inner_begin; ++c) at_border(c);
-    for (int c = inner_end; c < cols; ++c) at_border(c);
-    // Inside, the same arithmetic with every value loaded and selects for the missing windows,
-    // so the loop vectorises (with branches and divisions it took 14 ns a pixel on the OS1-128).
-    const InnerRows rows_of{work.weight_sum.ptr<float>(r),   work.range_sum.ptr<float>(r),
-                            work.col_sum.ptr<float>(r),      work.row_sum.ptr<float>(r),
-                            work.weight_sum.ptr<float>(up),  work.range_sum.ptr<float>(up),
-                            work.row_sum.ptr<float>(up),     work.weight_sum.ptr<float>(down),
-                            work.range_sum.ptr<float>(down), work.row_sum.ptr<float>(down)};
-    cos_incidence_inside(rows_of, m, a, inner_begin, inner_end, per_az, per_el, max_gain_sq, out);
-  }
+  in_row_parts(rows, parts, [&](int first, int end) {
+    for (int r = first; r < end; ++r) {
+      const int up = std::max(0, r - b), down = std::min(rows - 1, r + b);
+      const double el = g.elevation_of_v(r);
+      // Elevation per row about this row (ring rows are not evenly spaced).
+      const double per_row =
+          down > up ? std::abs(g.elevation_of_v(up) - g.elevation_of_v(down)) / (down - up)
+                    : g.res_v;
+      const float per_az = static_cast<float>(1.0 / (g.res_h * std::max(0.05, std::cos(el))));
+      const float per_el = static_cast<float>(1.0 / per_row);
+      const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
+      float* out = cos_incidence.ptr<float>(r);
+      std::fill(out, out + cols, 1.0f);
+      // Near the left and right borders a side window is clamped to the image: per pixel.
+      const auto at_border = [&](int c) {
+        if (!m[c]) return;
+        const WindowMean::Value centre = mean.at(r, c);
+        if (!centre.valid || !(centre.range > 0)) return;
+        WindowMean::Value left = mean.at(r, std::max(0, c - a));
+        WindowMean::Value right = mean.at(r, std::min(cols - 1, c + a));
+        WindowMean::Value above = mean.at(up, c), below = mean.at(down, c);
+        if (!left.valid) left = centre;
+        if (!right.valid) right = centre;
+        if (!above.valid) above = centre;
+        if (!below.valid) below = centre;
+        out[c] = cos_incidence_of(right.range - left.range, right.col - left.col,
+                                  above.range - below.range, below.row - above.row, centre.range,
+                                  per_az, per_el, max_gain_sq);
+      };
+      const int inner_begin = std::min(a, cols), inner_end = std::max(inner_begin, cols - a);
+      for (int c = 0; c < inner_begin; ++c) at_border(c);
+      for (int c = inner_end; c < cols; ++c) at_border(c);
+      // Inside, the same arithmetic with every value loaded and selects for the missing windows,
+      // so the loop vectorises (with branches and divisions it took 14 ns a pixel on the
+      // OS1-128).
+      const InnerRows rows_of{work.weight_sum.ptr<float>(r),   work.range_sum.ptr<float>(r),
+                              work.col_sum.ptr<float>(r),      work.row_sum.ptr<float>(r),
+                              work.weight_sum.ptr<float>(up),  work.range_sum.ptr<float>(up),
+                              work.row_sum.ptr<float>(up),     work.weight_sum.ptr<float>(down),
+                              work.range_sum.ptr<float>(down), work.row_sum.ptr<float>(down)};
+      cos_incidence_inside(rows_of, m, a, inner_begin, inner_end, per_az, per_el, max_gain_sq, out);
+    }
+  });
 }
 
 void normalise_intensity(const ProjectedImage& image, const NormalisationOptions& options,
-                         NormalisationBuffers& work, cv::Mat& out) {
+                         NormalisationBuffers& work, cv::Mat& out, int threads) {
   if (options.mode == IntensityNormalisation::kNone) return;
   const int rows = image.intensity.rows, cols = image.intensity.cols;
   out.create(rows, cols, CV_32F);
+  const bool incidence = options.mode == IntensityNormalisation::kRangeIncidence;
+  if (incidence) estimate_cos_incidence(image, options, work, work.cos_incidence, threads);
   const float per_ref_sq = static_cast<float>(1.0 / (options.reference_m * options.reference_m));
-  // Range only: one pass that vectorises (the range is 0 where unobserved, so is the product).
-  for (int r = 0; r < rows; ++r) {
-    const float* __restrict i = image.intensity.ptr<float>(r);
-    const float* __restrict d = image.range.ptr<float>(r);
-    float* __restrict o = out.ptr<float>(r);
-    for (int c = 0; c < cols; ++c) o[c] = i[c] * (d[c] * d[c] * per_ref_sq);
-  }
-  if (options.mode != IntensityNormalisation::kRangeIncidence) return;
-  estimate_cos_incidence(image, options, work, work.cos_incidence);
-  cv::divide(out, work.cos_incidence, out);
+  const int parts = detail::parts_for(threads, image.intensity.total(), kMinPixelsPerPart);
+  in_row_parts(rows, parts, [&](int first, int end) {
+    // Range: a pass that vectorises (the range is 0 where unobserved, so is the product).
+    for (int r = first; r < end; ++r) {
+      const float* __restrict i = image.intensity.ptr<float>(r);
+      const float* __restrict d = image.range.ptr<float>(r);
+      float* __restrict o = out.ptr<float>(r);
+      for (int c = 0; c < cols; ++c) o[c] = i[c] * (d[c] * d[c] * per_ref_sq);
+    }
+    if (!incidence) return;
+    cv::Mat part = out.rowRange(first, end);
+    cv::divide(part, work.cos_incidence.rowRange(first, end), part);
+  });
 }
 
 }  // namespace iilfm

@@ -347,7 +347,8 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   const int parts = detail::parts_for(options.threads, image.intensity.total(), kMinPixelsPerPart);
   const cv::Mat* source = &image.intensity;
   if (options.normalise.mode != IntensityNormalisation::kNone) {
-    normalise_intensity(image, options.normalise, out.normalise_work, out.normalised);
+    normalise_intensity(image, options.normalise, out.normalise_work, out.normalised,
+                        options.threads);
     source = &out.normalised;
   }
   // Hole filling alternates between two reused buffer pairs (a pass reads the previous one).

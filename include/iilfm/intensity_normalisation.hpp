@@ -41,18 +41,18 @@ struct NormalisationOptions {
 struct NormalisationBuffers {
   cv::Mat weight, range_sum, weight_sum, cos_incidence;
   cv::Mat weighted_col, weighted_row, col_sum, row_sum;  // window centroids
-  cv::Mat across;                                        // window sums along rows
-  std::vector<float> padded;                             // one row with zero borders
+  cv::Mat across[4];  // window sums along rows (of the range, weight, column and row images)
 };
 
 // Writes the normalised intensity (CV_32F, 0 where unobserved) of `image` into `out`. With
-// IntensityNormalisation::kNone it does nothing.
+// IntensityNormalisation::kNone it does nothing. With `threads` > 1, images of at least 128k
+// pixels are split between threads by rows: the same image for any count.
 void normalise_intensity(const ProjectedImage& image, const NormalisationOptions& options,
-                         NormalisationBuffers& work, cv::Mat& out);
+                         NormalisationBuffers& work, cv::Mat& out, int threads = 1);
 
 // Cosine of the angle of incidence per pixel (CV_32F; 1 where unobserved, unknown or at a depth
 // edge), estimated from the range image alone: exposed for tests.
 void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOptions& options,
-                            NormalisationBuffers& work, cv::Mat& cos_incidence);
+                            NormalisationBuffers& work, cv::Mat& cos_incidence, int threads = 1);
 
 }  // namespace iilfm

@@ -23,14 +23,14 @@ struct PlaneScan {
 };
 
 PlaneScan plane_scan(const Vec3& normal, double distance, double reflectivity,
-                     double range_sigma = 0) {
+                     double range_sigma = 0, int width = 151, int height = 101) {
   PlaneScan s;
   ImageGeometry& g = s.image.geometry;
-  g.width = 151;
-  g.height = 101;
-  g.res_h = g.res_v = 0.2 * kDeg;
-  g.u0 = 75;
-  g.v0 = 50;
+  g.width = width;
+  g.height = height;
+  g.res_h = g.res_v = 0.2 * kDeg * 151 / width;
+  g.u0 = (width - 1) / 2.0;
+  g.v0 = (height - 1) / 2.0;
   s.image.intensity = cv::Mat::zeros(g.height, g.width, CV_32F);
   s.image.range = cv::Mat::zeros(g.height, g.width, CV_32F);
   s.image.mask = cv::Mat::zeros(g.height, g.width, CV_8U);
@@ -112,6 +112,39 @@ TEST(IntensityNormalisation, RangeIncidenceRecoversTheReflectivityDespiteRangeNo
       if (!s.image.mask.at<std::uint8_t>(r, c)) {
         ASSERT_EQ(out.at<float>(r, c), 0.0f);
       }
+}
+
+TEST(IntensityNormalisation, ThreadsGiveTheOneThreadImages) {
+  // 601 x 401 pixels of 0.05 deg (three parts of at least 64k), 1 cm range noise; the windows
+  // summed directly (0.25 deg: 5 pixels each way) and by cv::boxFilter (1 deg: 20, over 8).
+  const PlaneScan s =
+      plane_scan(Vec3(std::cos(30 * kDeg), std::sin(30 * kDeg), 0.3), 5, 80, 0.01, 601, 401);
+  for (const double half_window_deg : {0.25, 1.0}) {
+    for (const IntensityNormalisation mode :
+         {IntensityNormalisation::kRange, IntensityNormalisation::kRangeIncidence}) {
+      NormalisationOptions options;
+      options.mode = mode;
+      options.normal_half_window_deg = half_window_deg;
+      NormalisationBuffers one_work, split_work;
+      cv::Mat one, split;
+      normalise_intensity(s.image, options, one_work, one);
+      for (int threads : {2, 3}) {
+        for (int run = 0; run < 2; ++run) {
+          normalise_intensity(s.image, options, split_work, split, threads);
+          EXPECT_EQ(cv::norm(one, split, cv::NORM_INF), 0) << half_window_deg << threads;
+          if (mode == IntensityNormalisation::kRangeIncidence) {
+            EXPECT_EQ(cv::norm(one_work.cos_incidence, split_work.cos_incidence, cv::NORM_INF), 0)
+                << half_window_deg << threads;
+          }
+        }
+      }
+      if (mode == IntensityNormalisation::kRangeIncidence) {  // the cosines vary: a real check
+        double lo = 0, hi = 0;
+        cv::minMaxLoc(one_work.cos_incidence, &lo, &hi, nullptr, nullptr, s.image.mask);
+        EXPECT_LT(lo, hi - 0.05) << half_window_deg;
+      }
+    }
+  }
 }
 
 TEST(IntensityNormalisation, RangeNormalisationIsTheSquareLawAboutTheReference) {

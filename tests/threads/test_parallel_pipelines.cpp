@@ -143,7 +143,8 @@ TEST(ProjectionThreads, SplitPassesGiveTheOneThreadImages) {
 TEST(PreprocessThreads, SplitRowsGiveTheOneThreadImages) {
   // PreprocessOptions::threads under ThreadSanitizer: the OS1-64 sweep in ring rows of 0.1 deg
   // columns, resampled to square pixels (rows repeated, the case where a part must not copy the
-  // row above it), its rows split between three threads, with Otsu's threshold and a known one.
+  // row above it), its rows split between three threads, with Otsu's threshold and a known one
+  // after the intensity normalisation of the Ouster presets.
   const PointCloud& cloud = scans().scans[0].cloud;
   ProjectionOptions projection;
   projection.res_h_deg = 0.1;
@@ -154,6 +155,7 @@ TEST(PreprocessThreads, SplitRowsGiveTheOneThreadImages) {
   for (const std::optional<double> threshold : {std::optional<double>(), std::optional(40.0)}) {
     PreprocessOptions options;
     options.threshold = threshold;
+    if (threshold) options.normalise.mode = IntensityNormalisation::kRangeIncidence;
     PreprocessedImage one, three;
     preprocess(image, options, one);
     ASSERT_GT(one.gray.rows, 2 * image.intensity.rows);  // square pixels
@@ -164,6 +166,7 @@ TEST(PreprocessThreads, SplitRowsGiveTheOneThreadImages) {
       EXPECT_EQ(cv::norm(one.detect, three.detect, cv::NORM_INF), 0);
       EXPECT_EQ(cv::norm(one.valid, three.valid, cv::NORM_INF), 0);
       EXPECT_EQ(one.threshold, three.threshold);
+      EXPECT_EQ(cv::norm(one.normalised, three.normalised, cv::NORM_INF), 0);
     }
   }
 }
