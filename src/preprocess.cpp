@@ -274,9 +274,17 @@ cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double glo
   return above;
 }
 
+// The row that row `r` of a resampled image repeats (itself when it does not repeat): the only
+// rows whose values resample_rows writes.
+int source_row(const std::vector<std::uint8_t>& repeats_row_above, int r) {
+  while (r > 0 && repeats_row_above[static_cast<std::size_t>(r)]) --r;
+  return r;
+}
+
 // 8-bit gray for display and for Otsu, rows [first_row, end_row) of `gray` (sized by the caller):
 // intensity scaled so `scale` maps to 255; pixels still unobserved get `unobserved`. A row that
-// repeats the one above is copied, except the first (the row above may be another thread's).
+// repeats the one above is copied, except the first, which is computed from the row it repeats
+// (the row above may be another thread's).
 IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid,
                                const std::vector<std::uint8_t>& repeats_row_above, double scale,
                                int unobserved, int first_row, int end_row, cv::Mat& gray) {
@@ -289,8 +297,9 @@ IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid,
       std::memcpy(g, gray.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(cols));
       continue;
     }
-    const float* __restrict v = filled.ptr<float>(r);
-    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
+    const int source = source_row(repeats_row_above, r);
+    const float* __restrict v = filled.ptr<float>(source);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(source);
     for (int c = 0; c < cols; ++c) {
       // max(0, level) takes 0 for a NaN (an overflowed sum): never an undefined cast.
       const float level = v[c] * factor + 0.5f;
@@ -304,7 +313,7 @@ IILFM_AVX2_CLONES void to_gray(const cv::Mat& filled, const cv::Mat& valid,
 
 // The naive global threshold, rows [first_row, end_row) of `detect` (sized by the caller): 255
 // where brighter than `threshold`, 0 where not, `unobserved` where no value is known. A row that
-// repeats the one above is copied, except the first.
+// repeats the one above is copied, except the first (as in to_gray).
 IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
                                 const std::vector<std::uint8_t>& repeats_row_above,
                                 double threshold, int unobserved, int first_row, int end_row,
@@ -318,8 +327,9 @@ IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
       std::memcpy(d, detect.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(cols));
       continue;
     }
-    const float* __restrict v = filled.ptr<float>(r);
-    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
+    const int source = source_row(repeats_row_above, r);
+    const float* __restrict v = filled.ptr<float>(source);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(source);
     for (int c = 0; c < cols; ++c) {
       const std::uint8_t level = v[c] > t ? 255 : 0;
       d[c] = static_cast<std::uint8_t>((level & m[c]) | (hole & ~m[c]));  // masks hold 0 or 255
@@ -375,8 +385,10 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   if (options.square_pixels && needs_square_pixels(image.geometry)) {
     out.geometry = square_pixel_geometry(image.geometry);
     PreprocessedImage::Buffers& into = out.work[values == &out.work[0].values ? 1 : 0];
+    // The rows that repeat the one above are read only by the local threshold's window sums:
+    // otherwise their values are not copied (a megabyte for a VLP-16 image).
     resample_rows(*values, *mask, image.geometry, out.geometry, into.values, into.mask,
-                  &out.repeats_row_above);
+                  &out.repeats_row_above, options.local_threshold);
     values = &into.values;
     mask = &into.mask;
   } else {

@@ -56,7 +56,8 @@ ImageGeometry square_pixel_geometry(const ImageGeometry& g) {
 
 void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeometry& from,
                    const ImageGeometry& to, cv::Mat& out_image, cv::Mat& out_valid,
-                   std::vector<std::uint8_t>* repeats_row_above) {
+                   std::vector<std::uint8_t>* repeats_row_above, bool copy_repeated_values) {
+  copy_repeated_values |= repeats_row_above == nullptr;
   out_image.create(to.height, to.width, CV_32F);
   if (repeats_row_above) repeats_row_above->assign(static_cast<std::size_t>(to.height), 0);
   out_valid.create(to.height, to.width, CV_8U);
@@ -74,8 +75,9 @@ void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeomet
     std::uint8_t* vo = out_valid.ptr<std::uint8_t>(r);
     if (near == previous_near && far == previous_far) {  // most rows repeat the one above
       if (repeats_row_above) (*repeats_row_above)[static_cast<std::size_t>(r)] = 1;
-      std::memcpy(o, out_image.ptr<float>(r - 1),
-                  sizeof(float) * static_cast<std::size_t>(to.width));
+      if (copy_repeated_values)
+        std::memcpy(o, out_image.ptr<float>(r - 1),
+                    sizeof(float) * static_cast<std::size_t>(to.width));
       std::memcpy(vo, out_valid.ptr<std::uint8_t>(r - 1), static_cast<std::size_t>(to.width));
     } else {
       merge_rows(image.ptr<float>(near), valid.ptr<std::uint8_t>(near), image.ptr<float>(far),

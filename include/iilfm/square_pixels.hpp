@@ -30,10 +30,13 @@ ImageGeometry square_pixel_geometry(const ImageGeometry& g);
 // darker ring by the threshold's distance from mid-grey (measured on the ULTRA Puck ccw10m case:
 // LiDAR position error 3.5x smaller than with linear rows). With `repeats_row_above`, also
 // says which output rows are copies of the one above (1) and which are not (0): most of them on a
-// spinning LiDAR, whose rings lie several square pixels apart.
+// spinning LiDAR, whose rings lie several square pixels apart. With `repeats_row_above` and
+// `copy_repeated_values` false, the repeated rows of `out_image` are left unwritten (a caller that
+// reads only the rows that do not repeat saves copying them; the mask is written whole).
 void resample_rows(const cv::Mat& image, const cv::Mat& valid, const ImageGeometry& from,
                    const ImageGeometry& to, cv::Mat& out_image, cv::Mat& out_valid,
-                   std::vector<std::uint8_t>* repeats_row_above = nullptr);
+                   std::vector<std::uint8_t>* repeats_row_above = nullptr,
+                   bool copy_repeated_values = true);
 
 // The continuous coordinates in `to` of the direction at `px` in `from`.
 inline Vec2 map_pixel(const Vec2& px, const ImageGeometry& from, const ImageGeometry& to) {
