@@ -64,11 +64,12 @@ void merge_overlapping(std::vector<cv::Rect>& boxes) {
   }
 }
 
-// Black-white changes between neighbours along the rows. Counted in byte lanes over runs of at
-// most 255 pixels, so the vector loop compares and adds 32 pixels at a time (an int counter
-// widened every byte to four lanes of 32 bits).
+// Black-white changes between neighbours along the rows. Counted in byte lanes over runs of 224
+// pixels (a count below 256, seven vectors of 32), so the vector loop compares and adds 32
+// pixels at a time with no remainder inside a row (an int counter widened every byte to four
+// lanes of 32 bits).
 IILFM_AVX2_CLONES std::size_t row_changes(const cv::Mat& binary) {
-  constexpr int kMostPerRun = 255;
+  constexpr int kMostPerRun = 224;
   std::size_t changes = 0;
   for (int r = 0; r < binary.rows; ++r) {
     const std::uint8_t* __restrict row = binary.ptr<std::uint8_t>(r);
