@@ -255,7 +255,7 @@ void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
 }
 
 MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
-                                   const ProjectedImage& image) const {
+                                   const ProjectedImage& image, int fit_threads) const {
   MarkerResult marker;
   if (options_.edge_refine) {
     const EdgeRefinement edges = refine_edges_to_mid_level(
@@ -263,7 +263,9 @@ MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
     if (edges.ok) detection.corners_px = edges.corners_px;
   }
   if (options_.lift == LiftMethod::kPlane) {
-    marker.plane = fit_marker_plane(keypoint_outline(detection), image, cloud, options_.plane_fit);
+    PlaneFitOptions fit = options_.plane_fit;
+    fit.threads = fit_threads;
+    marker.plane = fit_marker_plane(keypoint_outline(detection), image, cloud, fit);
     for (const Vec2& px : detection.corners_px)
       marker.corners.push_back(lift_on_plane(px, image, *marker.plane));
   } else {
@@ -291,12 +293,14 @@ void Pipeline::lift_markers(std::vector<Detection>& detections, const PointView&
   r.markers.resize(n);
   const int parts =
       cloud.size() >= kMinPointsForThreads ? detail::parts_for(options_.lift_threads, n, 1) : 1;
+  // Threads left over (a single marker) gather its plane fit's points.
+  const int fit_threads = std::max(options_.plane_fit.threads, options_.lift_threads / parts);
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(parts));
   detail::in_parts(parts, [&](int k, int count) {
     const auto [begin, end] = detail::part_range(n, k, count);
     try {
       for (std::size_t i = begin; i < end; ++i)
-        r.markers[i] = lift_marker(std::move(detections[i]), cloud, r.image);
+        r.markers[i] = lift_marker(std::move(detections[i]), cloud, r.image, fit_threads);
     } catch (...) {
       failures[static_cast<std::size_t>(k)] = std::current_exception();
     }

@@ -3,12 +3,14 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <opencv2/imgproc.hpp>
 #include <utility>
 
 #include "iilfm/lift.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "parallel_parts.hpp"
 #include "plane_fit_passes.hpp"
 
 namespace iilfm {
@@ -179,14 +181,16 @@ PolygonFrame polygon_frame(const ImageGeometry& g) {
 // The points of the observed pixels inside nested polygons (in the frame's uniform coordinates),
 // gathered in one pass, each labelled with the innermost polygon holding it: label k + 1 for
 // `nested[k]`, outermost first. A pixel holding one point contributes that point, one holding
-// several its mean range along the pixel-centre ray.
+// several its mean range along the pixel-centre ray. Large boxes are split between `threads` by
+// rows: the same points in the same order for any count.
 struct LabelledPoints {
   detail::FitPoints points;
   detail::Buffer<std::uint8_t> label;
 };
 
 void gather_points(const std::vector<std::vector<Vec2>>& nested, const ProjectedImage& image,
-                   const PointView& cloud, const PolygonFrame& frame, LabelledPoints& out) {
+                   const PointView& cloud, const PolygonFrame& frame, int threads,
+                   LabelledPoints& out) {
   out.points.resize(0);
   out.label.clear();
   const ImageGeometry& g = image.geometry;
@@ -238,70 +242,106 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     std::uint32_t slot, point;
   };
   thread_local detail::Buffer<SinglePoint> single;
-  // Sized for every pixel of the box (each pixel is written to the next free slot, one spare) and
-  // written through plain pointers: a push_back per point reloaded the thread-local vectors' ends.
-  std::size_t rows_in_box = 0;
+  thread_local std::vector<int> box_rows;  // the image rows the box spans, top to bottom
+  box_rows.clear();
   for (int r = 0; r < g.height; ++r) {
     const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
-    rows_in_box += v >= v0 && v <= v1 ? 1 : 0;
+    if (v >= v0 && v <= v1) box_rows.push_back(r);
   }
-  const std::size_t most = rows_in_box * column.size() + 1;
+  // Parts of the box's rows go to threads, each writing its points from the slot its rows begin
+  // at (every pixel is written to the next free slot, so a part needs a slot per pixel and one
+  // spare); the parts' points are then moved together, in the order of one pass.
+  const std::size_t width = column.size();
+  constexpr std::size_t kMinPixelsPerPart = 32768;
+  const int parts = detail::parts_for(threads, box_rows.size() * width, kMinPixelsPerPart);
+  const std::size_t most = box_rows.size() * width + static_cast<std::size_t>(parts);
   detail::FitPoints& fit = out.points;
   fit.resize(most);
   out.label.resize(most);
   single.resize(most);
-  double* __restrict xs = fit.x.data();
-  double* __restrict ys = fit.y.data();
-  double* __restrict zs = fit.z.data();
-  std::uint8_t* __restrict labelled = out.label.data();
-  SinglePoint* __restrict singles = single.data();
-  std::size_t n = 0, n_single = 0;
-  for (int r = 0; r < g.height; ++r) {
-    const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
-    if (v < v0 || v > v1) continue;
-    const std::uint8_t* in = labels.ptr<std::uint8_t>(v - v0);
-    const std::uint8_t* seen = image.mask.ptr<std::uint8_t>(r);
-    const std::int32_t* count = image.count.ptr<std::int32_t>(r);
-    const std::int32_t* index = image.index.ptr<std::int32_t>(r);
-    const float* range = image.range.ptr<float>(r);
-    const double elevation = g.elevation_of_v(r);
-    const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
-    // Every pixel is written to the next slot and counted only when labelled and observed, and a
-    // pixel of one point also as a single: no branch on the mix of single- and many-point pixels.
-    for (std::size_t k = 0; k < column.size(); ++k) {
-      const std::uint8_t label = in[k];
-      const int c = std::max(column[k], 0);
-      const bool taken = (label != 0) & (column[k] >= 0) & (seen[c] != 0);
-      const double along = static_cast<double>(range[c]);
-      xs[n] = cos_el * cos_az[k] * along;
-      ys[n] = cos_el * sin_az[k] * along;
-      zs[n] = sin_el * along;
-      labelled[n] = label;
-      singles[n_single] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index[c])};
-      n_single += taken & (count[c] == 1);
-      n += taken;
+  // Written through plain pointers (a push_back per point reloaded the thread-local vectors'
+  // ends), and through these names alone in the parts: a thread-local named in a helper thread
+  // is that thread's own.
+  double* const xs = fit.x.data();
+  double* const ys = fit.y.data();
+  double* const zs = fit.z.data();
+  std::uint8_t* const labelled = out.label.data();
+  SinglePoint* const singles = single.data();
+  const std::vector<int>& rows = box_rows;
+  const std::vector<int>& columns = column;
+  const std::vector<double>& cos_of = cos_az;
+  const std::vector<double>& sin_of = sin_az;
+  const cv::Mat& label_mask = labels;
+  std::size_t first_slot[detail::kMaxParts], gathered[detail::kMaxParts];
+  detail::in_parts(parts, [&](int part, int count) {
+    const auto [first, end] = detail::part_range(rows.size(), part, count);
+    const std::size_t base = first * width + static_cast<std::size_t>(part);
+    double* __restrict x = xs;
+    double* __restrict y = ys;
+    double* __restrict z = zs;
+    std::uint8_t* __restrict l = labelled;
+    SinglePoint* __restrict one = singles;
+    std::size_t n = base, n_single = base;
+    for (std::size_t i = first; i < end; ++i) {
+      const int r = rows[i];
+      const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
+      const std::uint8_t* in = label_mask.ptr<std::uint8_t>(v - v0);
+      const std::uint8_t* seen = image.mask.ptr<std::uint8_t>(r);
+      const std::int32_t* count_of = image.count.ptr<std::int32_t>(r);
+      const std::int32_t* index = image.index.ptr<std::int32_t>(r);
+      const float* range = image.range.ptr<float>(r);
+      const double elevation = g.elevation_of_v(r);
+      const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
+      // Every pixel is written to the next slot and counted only when labelled and observed, and
+      // a pixel of one point also as a single: no branch on the mix of single- and many-point
+      // pixels.
+      for (std::size_t k = 0; k < width; ++k) {
+        const std::uint8_t label = in[k];
+        const int c = std::max(columns[k], 0);
+        const bool taken = (label != 0) & (columns[k] >= 0) & (seen[c] != 0);
+        const double along = static_cast<double>(range[c]);
+        x[n] = cos_el * cos_of[k] * along;
+        y[n] = cos_el * sin_of[k] * along;
+        z[n] = sin_el * along;
+        l[n] = label;
+        one[n_single] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index[c])};
+        n_single += taken & (count_of[c] == 1);
+        n += taken;
+      }
     }
+    // The single-point pixels' points, read from the cloud in a second pass with prefetching: the
+    // points of neighbouring pixels lie anywhere in the cloud (a rosette revisits a spot every few
+    // frames), and waiting for each miss in turn cost more than the whole fit.
+    constexpr std::size_t kAhead = 16;
+    for (std::size_t k = base; k < n_single; ++k) {
+      if (k + kAhead < n_single) {
+        const std::size_t ahead = one[k + kAhead].point;
+        __builtin_prefetch(cloud.x.data + static_cast<std::ptrdiff_t>(ahead) * cloud.x.stride);
+        __builtin_prefetch(cloud.y.data + static_cast<std::ptrdiff_t>(ahead) * cloud.y.stride);
+        __builtin_prefetch(cloud.z.data + static_cast<std::ptrdiff_t>(ahead) * cloud.z.stride);
+      }
+      const Vec3 p = cloud.point(one[k].point);
+      const std::size_t slot = one[k].slot;
+      x[slot] = p.x();
+      y[slot] = p.y();
+      z[slot] = p.z();
+    }
+    first_slot[part] = base;
+    gathered[part] = n - base;
+  });
+  std::size_t n = 0;
+  for (int part = 0; part < parts; ++part) {
+    const std::size_t from = first_slot[part], count = gathered[part];
+    if (from != n) {
+      std::memmove(xs + n, xs + from, count * sizeof(double));
+      std::memmove(ys + n, ys + from, count * sizeof(double));
+      std::memmove(zs + n, zs + from, count * sizeof(double));
+      std::memmove(labelled + n, labelled + from, count);
+    }
+    n += count;
   }
   fit.resize(n);
   out.label.resize(n);
-  single.resize(n_single);
-  // The single-point pixels' points, read from the cloud in a second pass with prefetching: the
-  // points of neighbouring pixels lie anywhere in the cloud (a rosette revisits a spot every few
-  // frames), and waiting for each miss in turn cost more than the whole fit.
-  constexpr std::size_t kAhead = 16;
-  for (std::size_t k = 0; k < single.size(); ++k) {
-    if (k + kAhead < single.size()) {
-      const std::size_t ahead = single[k + kAhead].point;
-      __builtin_prefetch(cloud.x.data + static_cast<std::ptrdiff_t>(ahead) * cloud.x.stride);
-      __builtin_prefetch(cloud.y.data + static_cast<std::ptrdiff_t>(ahead) * cloud.y.stride);
-      __builtin_prefetch(cloud.z.data + static_cast<std::ptrdiff_t>(ahead) * cloud.z.stride);
-    }
-    const Vec3 p = cloud.point(single[k].point);
-    const std::size_t slot = single[k].slot;
-    xs[slot] = p.x();
-    ys[slot] = p.y();
-    zs[slot] = p.z();
-  }
 }
 
 // Least squares over `fit`, then refits without points farther than max(min band, 3 robust
@@ -353,7 +393,7 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   nested.push_back(polygon);
   const std::uint8_t marker_label = static_cast<std::uint8_t>(nested.size());
   thread_local LabelledPoints gathered;
-  gather_points(nested, image, cloud, frame, gathered);
+  gather_points(nested, image, cloud, frame, options.threads, gathered);
   const detail::FitPoints& points = gathered.points;
   const std::uint8_t* label = gathered.label.data();
 

@@ -74,6 +74,10 @@ struct PlaneFitOptions {
   // first, and the share of their points that must lie on the marker's plane.
   std::vector<double> surround_scales = {3.0, 2.0};
   double min_coplanar_fraction = 0.9;
+  // Threads gathering the points of a large surround (parts of at least 32k pixels): the same
+  // points, so the same plane, for any count. The pipeline gives a frame's single marker its
+  // lift threads (PipelineOptions::lift_threads).
+  int threads = 1;
 };
 
 // Fits the marker's plane robustly to the observed pixels inside the detected polygon, then, when

@@ -70,8 +70,9 @@ struct PipelineOptions {
   // nothing without such a square, a few milliseconds a VLP-16 frame with one (docs/pipeline.md).
   bool ring_candidates = true;
   // Threads lifting the markers of a frame (edge refinement, plane fit and pose, one marker per
-  // thread at a time), used with several markers in a cloud of at least 32k points. Same results
-  // for any count. `--threads` sets it with the projection's and AprilTag's.
+  // thread at a time), used with several markers in a cloud of at least 32k points; a single
+  // marker's plane fit gathers its points on them (PlaneFitOptions::threads). Same results for
+  // any count. `--threads` sets it with the projection's and preprocessing's.
   int lift_threads = 1;
 };
 
@@ -144,10 +145,10 @@ class Pipeline {
   const FrameResult& process_projected(const PointView& cloud, double project_ms);
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
-  // Refines, lifts and poses one detection; lifts all of them into r.markers, on up to
-  // options_.lift_threads threads.
-  MarkerResult lift_marker(Detection detection, const PointView& cloud,
-                           const ProjectedImage& image) const;
+  // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`);
+  // lifts all of them into r.markers, on up to options_.lift_threads threads.
+  MarkerResult lift_marker(Detection detection, const PointView& cloud, const ProjectedImage& image,
+                           int fit_threads) const;
   void lift_markers(std::vector<Detection>& detections, const PointView& cloud,
                     FrameResult& r) const;
   // The intensity the thresholds work in: normalised when normalisation is on.

@@ -150,5 +150,45 @@ TEST(MarkerPlane, ParallelSurroundSetsTheNormalButNotTheDepth) {
   EXPECT_NEAR(p.d * (p.normal.dot(kWallNormal) > 0 ? 1 : -1), -3.0, 0.005);
 }
 
+TEST(MarkerPlane, PointsGatheredOnThreadsGiveTheOneThreadPlane) {
+  // PlaneFitOptions::threads: a 0.05 deg image of a noisy wall, pixels holding one to three points
+  // (single-point pixels take their point from the cloud, the others their mean range), a quad
+  // 121 pixels wide whose 3x surround spans 363 x 363 pixels: three parts of at least 32k.
+  const ImageGeometry g =
+      geometry_for_bounds({-10 * kDeg, 10 * kDeg, -10 * kDeg, 10 * kDeg}, 0.05 * kDeg, 0.05 * kDeg);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.01);
+  std::uniform_real_distribution<double> jitter(-0.45, 0.45);
+  std::uniform_int_distribution<int> points_in(0, 3);
+  PointCloud cloud;
+  for (int r = 0; r < g.height; ++r)
+    for (int c = 0; c < g.width; ++c)
+      for (int k = points_in(rng); k > 0; --k) {
+        const Vec3 ray = g.ray(c + jitter(rng), r + jitter(rng));
+        const Vec3 p = ray * (-3.0 / kWallNormal.dot(ray) + noise(rng));
+        cloud.push_back(p.x(), p.y(), p.z(), 100);
+      }
+  ProjectionOptions projection;
+  projection.res_h_deg = projection.res_v_deg = 0.05;
+  ProjectedImage image;
+  SphericalProjector(projection).project(cloud, image);
+  const std::vector<Vec2> quad = {Vec2(140, 140), Vec2(260, 140), Vec2(260, 260), Vec2(140, 260)};
+  const Plane one = fit_marker_plane(quad, image, cloud);
+  ASSERT_TRUE(one.ok);
+  EXPECT_EQ(one.surround_scale, 3.0);
+  EXPECT_GT(one.inliers, 60000u);
+  for (int threads : {2, 3}) {
+    PlaneFitOptions options;
+    options.threads = threads;
+    const Plane split = fit_marker_plane(quad, image, cloud, options);
+    EXPECT_EQ(split.inliers, one.inliers) << threads;
+    EXPECT_EQ(split.normal, one.normal) << threads;
+    EXPECT_EQ(split.d, one.d) << threads;
+    EXPECT_EQ(split.slope_variance(0), one.slope_variance(0)) << threads;
+    EXPECT_EQ(split.slope_variance(1), one.slope_variance(1)) << threads;
+    EXPECT_EQ(split.offset_variance, one.offset_variance) << threads;
+  }
+}
+
 }  // namespace
 }  // namespace iilfm

@@ -191,5 +191,26 @@ TEST(LiftThreads, MarkersLiftedOnThreadsGiveTheOneThreadResults) {
   }
 }
 
+TEST(LiftThreads, OneMarkersPointsGatheredOnThreadsGiveTheOneThreadResults) {
+  // A single marker (the tag wall, 20 Mid-40 frames): its plane fit's points are gathered on the
+  // lift's threads (PlaneFitOptions::threads), its 300 x 300 pixel box in two parts.
+  const sim::SceneSetup setup = sim::named_scene("tag-wall");
+  sim::SimOptions sim_options;
+  sim_options.T_world_lidar = setup.T_world_lidar;
+  sim_options.frames = 20;
+  const sim::SimResult scan =
+      sim::simulate(setup.scene, sim::sensor_model(setup.sensor), sim_options);
+  PipelineOptions options;
+  apply_sensor_preset(find_sensor_preset("mid40"), options);
+  options.marker_size = 0.172;
+  Pipeline one(options);
+  const Outcome alone = outcome_of(one.process(scan.cloud));
+  ASSERT_EQ(alone.ids.size(), 1u);
+  options.lift_threads = 3;
+  Pipeline three(options);
+  for (int run = 0; run < 2; ++run)
+    expect_identical(alone, outcome_of(three.process(scan.cloud)), 0);
+}
+
 }  // namespace
 }  // namespace iilfm
