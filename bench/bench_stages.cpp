@@ -120,8 +120,10 @@ std::vector<PointCloud> mid40_frames() {
 
 void BM_WindowPush(benchmark::State& state) {
   static const std::vector<PointCloud> frames = mid40_frames();
-  const PipelineOptions& options = scan("mid40-60").options;
-  const int mode = static_cast<int>(state.range(0));  // 0 incremental, 1 whole, 2 pipeline
+  // 0 incremental projection, 1 whole projection, 2 pipeline, 3 pipeline on two threads
+  const int mode = static_cast<int>(state.range(0));
+  PipelineOptions options = scan("mid40-60").options;
+  if (mode == 3) options.projection.threads = options.preprocess.threads = options.lift_threads = 2;
   FrameWindow window(frames.size());
   for (const PointCloud& f : frames) window.push(f, {});
   WindowProjector incremental(options.projection);
@@ -133,11 +135,12 @@ void BM_WindowPush(benchmark::State& state) {
     window.push(frames[next++ % frames.size()], {});
     if (mode == 0) incremental.project(window, image);
     if (mode == 1) whole.project(window.view(), image);
-    if (mode == 2) benchmark::DoNotOptimize(pipeline.process(window).markers.size());
+    if (mode >= 2) benchmark::DoNotOptimize(pipeline.process(window).markers.size());
   }
   state.SetLabel(mode == 0   ? "incremental projection"
                  : mode == 1 ? "whole projection"
-                             : "pipeline");
+                 : mode == 2 ? "pipeline"
+                             : "pipeline, 2 threads");
 }
 
 // The simulator: 40 Mid-40 frames of the 35-marker grid (400k rays against two walls).
@@ -157,6 +160,7 @@ void register_all() {
       ->Arg(0)
       ->Arg(1)
       ->Arg(2)
+      ->Arg(3)
       ->Unit(benchmark::kMillisecond);
   for (const std::string& name : bench::scan_names()) {
     benchmark::RegisterBenchmark(("Read/" + name).c_str(), BM_Read, name)
