@@ -64,11 +64,18 @@ std::string decompress_bz2(const std::uint8_t* data, std::size_t size, std::size
 
 std::string decompress_lz4_frame(const std::uint8_t* data, std::size_t size, std::size_t expected,
                                  std::vector<std::uint8_t>& out) {
-  LZ4F_dctx* raw = nullptr;
-  if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION)))
-    return "lz4 context allocation failed";
-  const std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> context(
-      raw, &LZ4F_freeDecompressionContext);
+  // One context per thread, reset for each frame: a new one allocated its block buffer (up to
+  // 4 MB, as roslz4 writes) afresh for every chunk, and the page faults of filling it cost more
+  // than the decompression of a VLP-16 recording's chunks.
+  using Context = std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)>;
+  thread_local Context context(nullptr, &LZ4F_freeDecompressionContext);
+  if (!context) {
+    LZ4F_dctx* raw = nullptr;
+    if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION)))
+      return "lz4 context allocation failed";
+    context.reset(raw);
+  }
+  LZ4F_resetDecompressionContext(context.get());  // also after a frame that stopped with an error
   out.clear();
   std::size_t consumed = 0, produced = 0;
   std::size_t hint = 1;
