@@ -115,12 +115,19 @@ namespace {
 
 // Maps the tangent plane to printed cells when the quad's top side moves by `top` and its bottom
 // side by `bottom` (tangent units, down positive).
-cv::Matx33d shifted_tangent_to_cell(std::vector<cv::Point2f> quad, float top, float bottom, int n) {
+// The search over placings calls this hundreds of times per quad: arrays, not vectors (the
+// vectors' overload of getPerspectiveTransform calls this one).
+cv::Matx33d shifted_tangent_to_cell(const std::vector<cv::Point2f>& corners, float top,
+                                    float bottom, int n) {
   // The corners above the quad's middle form its top, whichever corner comes first.
-  const float middle = 0.25f * (quad[0].y + quad[1].y + quad[2].y + quad[3].y);
-  for (cv::Point2f& c : quad) c.y += c.y < middle ? top : bottom;
+  const float middle = 0.25f * (corners[0].y + corners[1].y + corners[2].y + corners[3].y);
+  cv::Point2f quad[4];
+  for (int k = 0; k < 4; ++k) {
+    quad[k] = corners[k];
+    quad[k].y += corners[k].y < middle ? top : bottom;
+  }
   const auto size = static_cast<float>(n);
-  const std::vector<cv::Point2f> square = {{0, 0}, {size, 0}, {size, size}, {0, size}};
+  const cv::Point2f square[4] = {{0, 0}, {size, 0}, {size, size}, {0, size}};
   return cv::getPerspectiveTransform(quad, square);
 }
 

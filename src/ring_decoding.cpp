@@ -75,6 +75,8 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const auto index = [&](int t, int b) {
     return static_cast<std::size_t>(t + outward) * span + static_cast<std::size_t>(b + inward);
   };
+  // The coarse look's agreements, kept for the finer search (NaN: not read yet).
+  std::vector<double> known(candidate ? wanted.size() : 0, std::nan(""));
   if (candidate) {
     // Most candidates are clutter: a coarse look (every third placing) must already find the
     // fixed cells mostly right before the finer search, which then looks only around the coarse
@@ -86,6 +88,7 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
     for (int t = -outward; t <= inward; t += kCoarse) {
       for (int b = -inward; b <= outward; b += kCoarse) {
         const double agreement = agreement_at(t * step, b * step);
+        known[index(t, b)] = agreement;
         coarse.emplace_back(t, b, agreement);
         coarse_best = std::max(coarse_best, agreement);
       }
@@ -106,7 +109,9 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
       // Detections move as a whole (their sides were found in the image); candidates' sides
       // independently.
       if ((!candidate && b != t) || !wanted[index(t, b)]) continue;
-      const double agreement = agreement_at(t * step, b * step);
+      const double agreement = candidate && !std::isnan(known[index(t, b)])
+                                   ? known[index(t, b)]
+                                   : agreement_at(t * step, b * step);
       if (agreement < 0) continue;
       if (agreement > best_agreement + 1e-9) {
         best_agreement = agreement;
