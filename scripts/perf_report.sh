@@ -16,7 +16,7 @@ out="$(mktemp)"
   echo
   "$build/bin/iilfm" bench --markdown --repeat "$repeat"
   echo
-  echo "With two threads for the projection and the lift (\`--threads 2\`; the default is 1):"
+  echo "With two threads for the projection, the preprocessing and the lift (\`--threads 2\`; the default is 1):"
   echo
   "$build/bin/iilfm" bench --markdown --repeat "$repeat" --threads 2 | grep -v '^iilfm bench'
   if [ -x "$build/bin/iilfm_bench_baseline" ]; then
