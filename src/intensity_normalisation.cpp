@@ -182,16 +182,6 @@ void sums_down(const cv::Mat& across, int b, int first, int end, cv::Mat& sum) {
   }
 }
 
-// Calls pass(first_row, end_row) for `parts` contiguous ranges of `rows`, each on its own thread
-// (detail::in_parts); a pass writes only its own rows.
-template <typename Pass>
-void in_row_parts(int rows, int parts, const Pass& pass) {
-  detail::in_parts(parts, [&](int k, int count) {
-    const auto [first, end] = detail::part_range(static_cast<std::size_t>(rows), k, count);
-    pass(static_cast<int>(first), static_cast<int>(end));
-  });
-}
-
 // Threads take at least this many pixels each (detail::parts_for).
 constexpr std::size_t kMinPixelsPerPart = 65536;
 
@@ -238,10 +228,11 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
   for (cv::Mat* m : {&work.weight, &work.weighted_col, &work.weighted_row, &work.range_sum,
                      &work.weight_sum, &work.col_sum, &work.row_sum})
     m->create(rows, cols, CV_32F);
-  for (cv::Mat& m : work.across) m.create(rows, cols, CV_32F);
+  if (direct)  // the sums along rows; cv::boxFilter keeps its own
+    for (cv::Mat& m : work.across) m.create(rows, cols, CV_32F);
   // Three passes over the rows, each after the whole of the one before: a window reaches b rows
   // into the neighbouring parts. Weights and the sums along rows, then down, then the cosines.
-  in_row_parts(rows, parts, [&](int first, int end) {
+  detail::in_row_parts(rows, parts, [&](int first, int end) {
     for (int r = first; r < end; ++r) {
       const std::uint8_t* __restrict m = image.mask.ptr<std::uint8_t>(r);
       float* __restrict w = work.weight.ptr<float>(r);
@@ -261,7 +252,7 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
     for (int k = 0; k < 4; ++k)
       cv::boxFilter(*inputs[k], *sums[k], CV_32F, cv::Size(2 * a + 1, 2 * b + 1), cv::Point(-1, -1),
                     false, cv::BORDER_CONSTANT);
-  in_row_parts(rows, parts, [&](int first, int end) {
+  detail::in_row_parts(rows, parts, [&](int first, int end) {
     if (direct)
       for (int k = 0; k < 4; ++k) sums_down(work.across[k], b, first, end, *sums[k]);
     to_means(work.weight_sum, work.range_sum, work.col_sum, work.row_sum, first, end);
@@ -270,7 +261,7 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
   const float max_gain_sq =
       static_cast<float>(1.0 / (options.min_cos_incidence * options.min_cos_incidence));
 
-  in_row_parts(rows, parts, [&](int first, int end) {
+  detail::in_row_parts(rows, parts, [&](int first, int end) {
     for (int r = first; r < end; ++r) {
       const int up = std::max(0, r - b), down = std::min(rows - 1, r + b);
       const double el = g.elevation_of_v(r);
@@ -324,7 +315,7 @@ void normalise_intensity(const ProjectedImage& image, const NormalisationOptions
   if (incidence) estimate_cos_incidence(image, options, work, work.cos_incidence, threads);
   const float per_ref_sq = static_cast<float>(1.0 / (options.reference_m * options.reference_m));
   const int parts = detail::parts_for(threads, image.intensity.total(), kMinPixelsPerPart);
-  in_row_parts(rows, parts, [&](int first, int end) {
+  detail::in_row_parts(rows, parts, [&](int first, int end) {
     // Range: a pass that vectorises (the range is 0 where unobserved, so is the product).
     for (int r = first; r < end; ++r) {
       const float* __restrict i = image.intensity.ptr<float>(r);

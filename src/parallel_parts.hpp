@@ -52,4 +52,14 @@ void in_parts(int parts, const Part& part) {
   for (std::thread& t : helpers) t.join();
 }
 
+// Calls pass(first_row, end_row) for `parts` contiguous ranges of an image's `rows`, each on its
+// own thread (in_parts); a pass writes only its own rows.
+template <typename Pass>
+void in_row_parts(int rows, int parts, const Pass& pass) {
+  in_parts(parts, [&](int k, int count) {
+    const auto [first, end] = part_range(static_cast<std::size_t>(rows), k, count);
+    pass(static_cast<int>(first), static_cast<int>(end));
+  });
+}
+
 }  // namespace iilfm::detail

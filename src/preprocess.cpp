@@ -337,16 +337,6 @@ IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
   }
 }
 
-// Calls pass(first_row, end_row) for `parts` contiguous ranges of an image's `rows`, each on its
-// own thread (detail::in_parts); a pass writes only its own rows.
-template <typename Pass>
-void in_row_parts(int rows, int parts, const Pass& pass) {
-  detail::in_parts(parts, [&](int k, int count) {
-    const auto [first, end] = detail::part_range(static_cast<std::size_t>(rows), k, count);
-    pass(static_cast<int>(first), static_cast<int>(end));
-  });
-}
-
 }  // namespace
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
@@ -374,7 +364,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     into.values.create(values->size(), CV_32F);
     into.mask.create(values->size(), CV_8U);
     const bool by_blocks = image.geometry.ring_rows() || (pass > 0 && dense);
-    in_row_parts(values->rows, parts, [&](int first_row, int end_row) {
+    detail::in_row_parts(values->rows, parts, [&](int first_row, int end_row) {
       fill_holes(*values, *mask, options.fill_min_neighbours, by_blocks, first_row, end_row,
                  into.values, into.mask);
     });
@@ -416,15 +406,15 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   if (options.threshold) {
     out.threshold = *options.threshold;
     // Both images in one pass over the rows when the threshold is known up front.
-    in_row_parts(filled.rows, parts, [&](int first_row, int end_row) {
+    detail::in_row_parts(filled.rows, parts, [&](int first_row, int end_row) {
       gray_rows(first_row, end_row);
       if (naive) binary_rows(first_row, end_row);
     });
   } else {
-    in_row_parts(filled.rows, parts, gray_rows);
+    detail::in_row_parts(filled.rows, parts, gray_rows);
     out.threshold =
         otsu_threshold(out.gray, filled_mask, out.repeats_row_above, out.intensity_scale);
-    if (naive) in_row_parts(filled.rows, parts, binary_rows);
+    if (naive) detail::in_row_parts(filled.rows, parts, binary_rows);
   }
   if (!options.binarize) {
     out.gray.copyTo(out.detect);

@@ -424,13 +424,13 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   out.mask.create(geo.height, geo.width, CV_8U);
   out.index.create(geo.height, geo.width, CV_32S);
   out.count.create(geo.height, geo.width, CV_32S);
-  in_parts(parts_for(options_.threads, total, kMinPixelsPerPart), [&](int k, int parts) {
-    const auto [first_row, end_row] = part_range(static_cast<std::size_t>(geo.height), k, parts);
-    write_images(pixels_.data(), static_cast<int>(first_row), static_cast<int>(end_row), geo.width,
-                 stride, nearest, out.range.ptr<float>(), out.intensity.ptr<float>(),
-                 out.mask.ptr<std::uint8_t>(), out.index.ptr<std::int32_t>(),
-                 out.count.ptr<std::int32_t>());
-  });
+  detail::in_row_parts(geo.height, parts_for(options_.threads, total, kMinPixelsPerPart),
+                       [&](int first_row, int end_row) {
+                         write_images(pixels_.data(), first_row, end_row, geo.width, stride,
+                                      nearest, out.range.ptr<float>(), out.intensity.ptr<float>(),
+                                      out.mask.ptr<std::uint8_t>(), out.index.ptr<std::int32_t>(),
+                                      out.count.ptr<std::int32_t>());
+                       });
   pixels_clear_ = true;
   out.points_projected = projected;
   out.stamp = next_projection_stamp();
