@@ -75,9 +75,7 @@ struct Row {
 
 Row measure(const std::string& name, const BenchArgs& args) {
   eval::BenchScan scan = eval::make_bench_scan(name);
-  scan.options.projection.threads = args.threads;
-  scan.options.lift_threads = args.threads;
-  scan.options.preprocess.threads = args.threads;
+  set_threads(scan.options, args.threads);
   const PointCloud& cloud = scan.scan.scan.cloud;
   const std::string path = "/tmp/iilfm-bench-" + std::to_string(::getpid()) + "-" + name + ".pcd";
   io::write_pcd(path, cloud);

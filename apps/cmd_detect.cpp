@@ -157,9 +157,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.search_regions = !args.no_search_regions;
   options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.decode_gray = !args.no_gray_decode;
-  options.projection.threads = args.threads;
-  options.lift_threads = args.threads;
-  options.preprocess.threads = args.threads;
+  set_threads(options, args.threads);
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;

@@ -73,8 +73,7 @@ void BM_Detect(benchmark::State& state, const std::string& name) {
 void BM_Pipeline(benchmark::State& state, const std::string& name) {
   const bench::Scan& s = scan(name);
   PipelineOptions options = s.options;
-  options.projection.threads = options.lift_threads = options.preprocess.threads =
-      static_cast<int>(state.range(0));
+  set_threads(options, static_cast<int>(state.range(0)));
   Pipeline pipeline(options);
   for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(s.scan.scan.cloud).markers.size());
   bench::report_points(state, s.scan.scan.cloud.size());
@@ -123,7 +122,7 @@ void BM_WindowPush(benchmark::State& state) {
   // 0 incremental projection, 1 whole projection, 2 pipeline, 3 pipeline on two threads
   const int mode = static_cast<int>(state.range(0));
   PipelineOptions options = scan("mid40-60").options;
-  if (mode == 3) options.projection.threads = options.preprocess.threads = options.lift_threads = 2;
+  if (mode == 3) set_threads(options, 2);
   FrameWindow window(frames.size());
   for (const PointCloud& f : frames) window.push(f, {});
   WindowProjector incremental(options.projection);

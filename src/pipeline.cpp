@@ -191,6 +191,12 @@ void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
   options.preprocess.normalise.mode = preset.normalise;
 }
 
+void set_threads(PipelineOptions& options, int threads) {
+  options.projection.threads = threads;
+  options.preprocess.threads = threads;
+  options.lift_threads = threads;
+}
+
 Pipeline::Pipeline(PipelineOptions options)
     : options_(std::move(options)), projector_(options_.projection) {
   if (options_.families.empty()) throw InputError("no marker family given (use --marker)");

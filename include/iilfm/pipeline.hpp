@@ -119,6 +119,10 @@ struct FrameResult {
 // Sets the preset's image resolution, field of view, naive threshold and intensity normalisation.
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options);
 
+// Every thread count of `options`: the projection's, the preprocessing's and the lift's (which a
+// single marker's plane fit takes over). What `--threads N` and Python `threads=` set.
+void set_threads(PipelineOptions& options, int threads);
+
 class Pipeline {
  public:
   explicit Pipeline(PipelineOptions options);  // InputError for bad options or unknown families

@@ -94,9 +94,7 @@ PipelineOptions pipeline_options(const Options& a) {
   options.detector.apriltag.search_regions = a.search_regions;
   options.detector.aruco.search_regions = a.search_regions;
   options.detector.apriltag.decode_gray = a.gray_decode;
-  options.projection.threads = a.threads;
-  options.lift_threads = a.threads;
-  options.preprocess.threads = a.threads;
+  set_threads(options, a.threads);
   options.detector.apriltag.max_hamming = a.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(a.aruco_refine);
   options.detector.aruco.window_min = a.aruco_window_min;
