@@ -62,11 +62,11 @@ int run_bag_info(const std::string& path) {
 Runner register_bag_command(CLI::App& app) {
   auto path = std::make_shared<std::string>();
   CLI::App* bag = app.add_subcommand("bag",
-                                     "Inspect recordings (ROS 1 .bag, ROS 2 bag folder or "
-                                     ".db3)");
+                                     "Inspect recordings (ROS 1 .bag, ROS 2 bag folder, .db3 "
+                                     "or .mcap)");
   bag->require_subcommand(1);
   CLI::App* info = bag->add_subcommand("info", "List topics, types, message counts and time span");
-  info->add_option("file", *path, "ROS 1 .bag, ROS 2 bag folder or .db3 file")->required();
+  info->add_option("file", *path, "ROS 1 .bag, ROS 2 bag folder, .db3 or .mcap file")->required();
   return [path] { return run_bag_info(*path); };
 }
 

@@ -336,7 +336,7 @@ Runner register_detect_command(CLI::App& app) {
                                      "LiDAR pose");
   cmd->add_option("input", args->input,
                   "Cloud file (.pcd, .bin, .ply, .txt), folder of them, bag (.bag, ROS 2 "
-                  "folder, .db3), or an intensity image (.png: 2-D stages only)")
+                  "folder, .db3, .mcap), or an intensity image (.png: 2-D stages only)")
       ->required();
   cmd->add_option("--sensor", args->sensor, "Sensor preset (see `iilfm sensors`)");
   cmd->add_option("--res-h", args->res_h, "Horizontal angular resolution, degrees");

@@ -10,7 +10,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(pcd kitti ply xyz ros1_bag ros2_db3 marker_map pipeline)
+[ ${#targets[@]} -gt 0 ] || targets=(pcd kitti ply xyz ros1_bag ros2_db3 mcap marker_map pipeline)
 build="${IILFM_FUZZ_BUILD:-$root/build-fuzz}"
 
 launcher=()

@@ -10,7 +10,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
 rm -rf "$corpus"
-mkdir -p "$corpus"/{ros1_bag,ros2_db3,marker_map}
+mkdir -p "$corpus"/{ros1_bag,ros2_db3,mcap,marker_map}
 # A VLP-16 sweep of one tag at 3 m; make_seeds keeps a few hundred of its points.
 "$build/bin/iilfm" sim --sensor vlp16 --distance 3 --out "$work/scan.pcd" --map "$work/map.yaml" \
   >/dev/null
@@ -25,6 +25,8 @@ python=/usr/bin/python3
 cp "$work/clouds_bz2.bag" "$work/clouds_lz4.bag" "$work/livox.bag" "$corpus/ros1_bag/"
 "$python" "$root/tests/tools/make_bags.py" ros2 "$work"
 cp "$work/ros2_bag/ros2_bag_0.db3" "$corpus/ros2_db3/clouds.db3"
+# MCAP: the tests' recordings from the official writer (tests/data/mcap/README.md).
+cp "$root"/tests/data/mcap/*.mcap "$corpus/mcap/"
 
 # Marker maps: the simulator's corner form and the size + pose forms.
 cp "$work/map.yaml" "$corpus/marker_map/corners.yaml"

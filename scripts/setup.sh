@@ -10,8 +10,9 @@ packages=(
   libeigen3-dev libapriltag-dev libopencv-dev libopencv-contrib-dev zlib1g-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  # bag readers (ROS 1 bz2/lz4 chunks, ROS 2 sqlite3) and real bag writers for their tests
-  libbz2-dev liblz4-dev libsqlite3-dev python3-rosbag python3-sensor-msgs python3-genpy
+  # bag readers (ROS 1 bz2/lz4 chunks, ROS 2 sqlite3, MCAP lz4/zstd chunks) and real bag writers
+  # for their tests
+  libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev python3-rosbag python3-sensor-msgs python3-genpy
   # PCL's command-line tools: PCD/PLY interoperability tests (about 20 MB download)
   pcl-tools
   # Python bindings and their tests

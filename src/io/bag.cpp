@@ -1,4 +1,4 @@
-// open_bag: a ROS 1 .bag file, or a ROS 2 bag (folder or .db3 file).
+// open_bag: a ROS 1 .bag file, a ROS 2 bag (folder, .db3 file) or an MCAP file.
 #include <filesystem>
 
 #include "iilfm/error.hpp"
@@ -34,9 +34,10 @@ bool is_bag_path(const std::string& path) {
 std::unique_ptr<BagReader> open_bag(const std::string& path) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw file_error(path, "no such file or folder");
-  if (fs::is_directory(path) || lower_extension(path) == ".db3") return open_ros2_bag(path);
-  if (lower_extension(path) == ".mcap")
-    throw file_error(path, "MCAP bags are not supported (Debian 12 packages no MCAP library)");
+  if (fs::is_directory(path))
+    return ros2_storage(path).identifier == "mcap" ? open_mcap_bag(path) : open_ros2_bag(path);
+  if (lower_extension(path) == ".db3") return open_ros2_bag(path);
+  if (lower_extension(path) == ".mcap") return open_mcap_bag(path);
   return open_ros1_bag(path);
 }
 

@@ -2,6 +2,7 @@
 
 #include <bzlib.h>
 #include <lz4frame.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <climits>
@@ -93,6 +94,38 @@ std::string decompress_lz4_frame(const std::uint8_t* data, std::size_t size, std
   if (produced > expected) return size_problem("lz4", produced, expected);
   if (hint != 0) return "lz4 data ends early";
   if (produced != expected) return size_problem("lz4", produced, expected);
+  out.resize(expected);
+  return {};
+}
+
+std::string decompress_zstd(const std::uint8_t* data, std::size_t size, std::size_t expected,
+                            std::vector<std::uint8_t>& out) {
+  // Streaming, like the lz4 frames: the frame header's content size is not trusted either. One
+  // context per thread, reset for each chunk.
+  using Context = std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)>;
+  thread_local Context context(nullptr, &ZSTD_freeDCtx);
+  if (!context) {
+    context.reset(ZSTD_createDCtx());
+    if (!context) return "zstd context allocation failed";
+  }
+  ZSTD_DCtx_reset(context.get(), ZSTD_reset_session_only);
+  out.clear();
+  ZSTD_inBuffer in{data, size, 0};
+  std::size_t produced = 0, hint = 1;
+  while (in.pos < size || hint != 0) {
+    if (produced == out.size() && !grow(out, expected + 1)) break;
+    ZSTD_outBuffer target{out.data(), out.size(), produced};
+    const std::size_t before = in.pos;
+    hint = ZSTD_decompressStream(context.get(), &target, &in);
+    if (ZSTD_isError(hint))
+      return std::string("zstd data corrupt (") + ZSTD_getErrorName(hint) + ")";
+    const bool progress = in.pos != before || target.pos != produced;
+    produced = target.pos;
+    if (!progress && produced < out.size()) break;  // all input used, frame not ended
+  }
+  if (produced > expected) return size_problem("zstd", produced, expected);
+  if (hint != 0) return "zstd data ends early";
+  if (produced != expected) return size_problem("zstd", produced, expected);
   out.resize(expected);
   return {};
 }

@@ -1,6 +1,8 @@
 // Point-cloud messages: sensor_msgs/PointCloud2 and Livox CustomMsg, in the ROS 1 serialization
 // (little-endian, packed, uint32 lengths) and in CDR (ROS 2: a 4-byte encapsulation header, then
 // every value aligned to its size counted from the end of that header, strings NUL-terminated).
+#include <algorithm>
+#include <iterator>
 #include <string_view>
 
 #include "byte_cursor.hpp"
@@ -15,14 +17,15 @@ namespace {
 
 constexpr std::string_view kPointCloud2[] = {"sensor_msgs/PointCloud2",
                                              "sensor_msgs/msg/PointCloud2"};
-constexpr std::string_view kLivox[] = {"livox_ros_driver/CustomMsg", "livox_ros_driver2/CustomMsg",
-                                       "livox_ros_driver2/msg/CustomMsg"};
+// One layout under five names: livox_ros_driver (ROS 1, and ROS 1 bags converted to ROS 2),
+// livox_ros_driver2 (ROS 1 and 2) and livox_ros2_driver's livox_interfaces.
+constexpr std::string_view kLivox[] = {
+    "livox_ros_driver/CustomMsg", "livox_ros_driver2/CustomMsg", "livox_ros_driver/msg/CustomMsg",
+    "livox_ros_driver2/msg/CustomMsg", "livox_interfaces/msg/CustomMsg"};
 
-bool one_of(const std::string& type, const std::string_view (&names)[2]) {
-  return type == names[0] || type == names[1];
-}
-bool one_of(const std::string& type, const std::string_view (&names)[3]) {
-  return type == names[0] || type == names[1] || type == names[2];
+template <std::size_t N>
+bool one_of(const std::string& type, const std::string_view (&names)[N]) {
+  return std::find(std::begin(names), std::end(names), type) != std::end(names);
 }
 
 // Reads one message's values in either serialization: the two differ only in alignment, string
@@ -70,6 +73,7 @@ class MessageCursor {
   }
   const std::uint8_t* take(std::size_t n) { return cursor_.take(n); }
   std::size_t offset() const { return cursor_.offset(); }
+  std::size_t remaining() const { return cursor_.remaining(); }
   bool cdr() const { return cdr_; }
   bool big_endian() const { return big_endian_; }
 
@@ -181,6 +185,11 @@ CloudMessage decode_livox(MessageCursor& in) {
   const std::size_t record = in.cdr() ? 20 : 19;
   const std::size_t last = n == 0 ? 0 : 19;
   const std::uint8_t* points = n == 0 ? nullptr : in.take((n - 1) * record + last);
+  // The points end the message (CDR may pad it to 4 bytes): more bytes mean another type under
+  // this name, whose points would be garbage.
+  if (in.remaining() > (in.cdr() ? 3u : 0u))
+    throw MessageCursor::BadMessage{std::to_string(in.remaining()) +
+                                    " bytes after the last point: not a Livox CustomMsg layout"};
   LoadedCloud& loaded = out.loaded;
   loaded.stats.points_in_file = n;
   loaded.cloud.reserve(n, true, true);
@@ -211,7 +220,8 @@ bool is_cloud_message_type(const std::string& type) {
 }
 
 std::string cloud_message_types() {
-  return "sensor_msgs/PointCloud2, livox_ros_driver/CustomMsg, livox_ros_driver2/CustomMsg";
+  return "sensor_msgs/PointCloud2, livox_ros_driver/CustomMsg, livox_ros_driver2/CustomMsg, "
+         "livox_interfaces/msg/CustomMsg";
 }
 
 CloudMessage decode_cloud_message(const BagMessage& message, const std::string& context) {

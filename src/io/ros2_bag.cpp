@@ -4,7 +4,6 @@
 //   messages(id, topic_id, timestamp, data)   -- timestamp in ns, data CDR-serialized
 // A .db3 file alone is read the same way.
 #include <sqlite3.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -35,29 +34,12 @@ std::string text_column(sqlite3_stmt* s, int column) {
 // The .db3 files of a bag path, in recording order.
 std::vector<std::string> storage_files(const std::string& path) {
   if (!fs::is_directory(path)) return {path};
-  const fs::path metadata = fs::path(path) / "metadata.yaml";
-  std::vector<std::string> files;
-  if (fs::exists(metadata)) {
-    try {
-      const YAML::Node info = YAML::LoadFile(metadata.string())["rosbag2_bagfile_information"];
-      if (!info) throw file_error(metadata.string(), "no rosbag2_bagfile_information");
-      const std::string storage = info["storage_identifier"].as<std::string>("sqlite3");
-      if (storage != "sqlite3")
-        throw file_error(path, "ROS 2 storage '" + storage +
-                                   "' is not supported (only sqlite3; Debian 12 packages no MCAP "
-                                   "library)");
-      for (const YAML::Node& f : info["relative_file_paths"])
-        files.push_back((fs::path(path) / f.as<std::string>()).string());
-    } catch (const YAML::Exception& e) {
-      throw file_error(metadata.string(), std::string("bad metadata: ") + e.what());
-    }
-  } else {
-    for (const auto& entry : fs::directory_iterator(path))
-      if (entry.path().extension() == ".db3") files.push_back(entry.path().string());
-    std::sort(files.begin(), files.end());
-  }
-  if (files.empty()) throw file_error(path, "no .db3 files in this ROS 2 bag");
-  return files;
+  Ros2Storage storage = ros2_storage(path);
+  if (storage.identifier != "sqlite3")
+    throw file_error(path, "ROS 2 storage '" + storage.identifier +
+                               "' is not supported (supported: sqlite3, mcap)");
+  if (storage.files.empty()) throw file_error(path, "no .db3 files in this ROS 2 bag");
+  return storage.files;
 }
 
 struct TopicRow {

@@ -1,4 +1,4 @@
-// The two bag readers behind open_bag.
+// The bag readers behind open_bag.
 #pragma once
 
 #include <memory>
@@ -11,7 +11,18 @@
 namespace iilfm::io {
 
 std::unique_ptr<BagReader> open_ros1_bag(const std::string& path);
+// A ROS 2 bag in the sqlite3 storage: a folder, or one .db3 file.
 std::unique_ptr<BagReader> open_ros2_bag(const std::string& path);
+// MCAP: one .mcap file, or a ROS 2 bag folder in the mcap storage (src/io/mcap_bag.cpp).
+std::unique_ptr<BagReader> open_mcap_bag(const std::string& path);
+
+// A ROS 2 bag folder's storage plugin ("sqlite3", "mcap", ...) and files, from its metadata.yaml;
+// without one, the folder's .db3 and .mcap files in name order.
+struct Ros2Storage {
+  std::string identifier;
+  std::vector<std::string> files;
+};
+Ros2Storage ros2_storage(const std::string& folder);
 
 // Text from a recording (topic and type names) with control bytes replaced by '?', so a damaged
 // name cannot break a one-line message or the terminal.

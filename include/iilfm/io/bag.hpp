@@ -1,5 +1,5 @@
-// Recordings without ROS: ROS 1 bags (format 2.0) and ROS 2 bags (sqlite3 storage), read directly
-// from the files, and the point-cloud messages in them decoded into clouds.
+// Recordings without ROS: ROS 1 bags (format 2.0), ROS 2 bags (sqlite3 or mcap storage) and MCAP
+// files, read directly from the files, and the point-cloud messages in them decoded into clouds.
 //
 // A BagReader lists the topics and walks one topic's messages in time order. Damage (a truncated
 // file, a corrupt chunk) is reported by the call that reaches it, so every message before it can
@@ -55,11 +55,11 @@ class BagReader {
   virtual bool next(BagMessage& message) = 0;
 };
 
-// A ROS 1 bag (.bag), a ROS 2 bag folder (metadata.yaml and .db3 files) or a single .db3 file.
+// A ROS 1 bag (.bag), a ROS 2 bag folder (metadata.yaml and .db3 or .mcap files), a single .db3
+// file or a single .mcap file (ROS 2 CDR or ROS 1 messages).
 std::unique_ptr<BagReader> open_bag(const std::string& path);
 
-// True for paths open_bag takes: a .bag or .db3 file, or a folder with metadata.yaml (and .mcap,
-// which open_bag refuses with a message saying why).
+// True for paths open_bag takes: a .bag, .db3 or .mcap file, or a folder with metadata.yaml.
 bool is_bag_path(const std::string& path);
 
 // The message types decode_cloud_message knows, ROS 1 and ROS 2 spellings.
