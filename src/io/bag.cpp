@@ -1,4 +1,5 @@
-// open_bag: a ROS 1 .bag file, a ROS 2 bag (folder, .db3 file) or an MCAP file.
+// open_bag (a ROS 1 .bag file, a ROS 2 bag folder or .db3 file, an MCAP file) and what the bag
+// readers share.
 #include <filesystem>
 
 #include "iilfm/error.hpp"
@@ -22,6 +23,25 @@ std::string printable(std::string_view text) {
     if (byte < 0x20 || byte == 0x7f) c = '?';
   }
   return out;
+}
+
+std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics) {
+  std::string known;
+  for (const BagTopic& t : topics)
+    known += (known.empty() ? "" : ", ") + t.name + " [" + t.type + "]";
+  return "no topic '" + topic + "' (topics: " + (known.empty() ? "none" : known) + ")";
+}
+
+InputError no_topic_error(const std::string& path, const std::string& topic,
+                          const std::string& damage, const std::vector<BagTopic>& topics) {
+  if (!damage.empty()) return file_error(path, damage + "; no " + topic + " message before it");
+  return file_error(path, missing_topic_problem(topic, topics));
+}
+
+void count_message(BagTopic& topic, std::int64_t time_ns) {
+  if (topic.messages == 0 || time_ns < topic.first_ns) topic.first_ns = time_ns;
+  if (topic.messages == 0 || time_ns > topic.last_ns) topic.last_ns = time_ns;
+  ++topic.messages;
 }
 
 bool is_bag_path(const std::string& path) {

@@ -189,20 +189,14 @@ class McapBag final : public BagReader {
     std::set<std::uint32_t> ids;
     for (std::uint32_t id = 0; id < channels_.size(); ++id)
       if (channels_[id].topic == topic) ids.insert(id);
-    if (ids.empty() && !damage_.empty())
-      throw file_error(path_, damage_ + "; no " + topic + " message before it");
-    if (ids.empty()) throw file_error(path_, missing_topic_problem(topic, topics_));
+    if (ids.empty()) throw no_topic_error(path_, topic, damage_, topics_);
     for (const std::uint32_t id : ids) {
       const std::string& encoding = channels_[id].message_encoding;
       if (encoding != "cdr" && encoding != "ros1")
         throw file_error(path_, "topic " + topic + " uses message encoding '" + encoding +
                                     "' (supported: cdr, ros1)");
     }
-    selected_.clear();
-    for (const Entry& e : entries_)
-      if (ids.count(e.channel)) selected_.push_back(&e);
-    std::stable_sort(selected_.begin(), selected_.end(),
-                     [](const Entry* a, const Entry* b) { return a->time_ns < b->time_ns; });
+    selected_ = in_time_order(entries_, ids, &Entry::channel);
     next_ = 0;
   }
 
@@ -530,12 +524,8 @@ class McapBag final : public BagReader {
         topics_.push_back(std::move(t));
       }
     }
-    for (const Entry& e : entries_) {
-      BagTopic& t = topics_[by_name.at(channels_[e.channel].topic)];
-      if (t.messages == 0 || e.time_ns < t.first_ns) t.first_ns = e.time_ns;
-      if (t.messages == 0 || e.time_ns > t.last_ns) t.last_ns = e.time_ns;
-      ++t.messages;
-    }
+    for (const Entry& e : entries_)
+      count_message(topics_[by_name.at(channels_[e.channel].topic)], e.time_ns);
     std::sort(topics_.begin(), topics_.end(),
               [](const BagTopic& a, const BagTopic& b) { return a.name < b.name; });
   }

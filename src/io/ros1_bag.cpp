@@ -171,14 +171,8 @@ class Ros1Bag final : public BagReader {
     std::set<std::uint32_t> ids;
     for (const auto& [id, c] : connections_)
       if (c.topic == topic) ids.insert(id);
-    if (ids.empty() && !damage_.empty())
-      throw file_error(path_, damage_ + "; no " + topic + " message before it");
-    if (ids.empty()) throw file_error(path_, missing_topic_problem(topic, topics_));
-    selected_.clear();
-    for (const Entry& e : entries_)
-      if (ids.count(e.connection)) selected_.push_back(&e);
-    std::stable_sort(selected_.begin(), selected_.end(),
-                     [](const Entry* a, const Entry* b) { return a->time_ns < b->time_ns; });
+    if (ids.empty()) throw no_topic_error(path_, topic, damage_, topics_);
+    selected_ = in_time_order(entries_, ids, &Entry::connection);
     next_ = 0;
   }
 
@@ -384,12 +378,8 @@ class Ros1Bag final : public BagReader {
       t.definition = c.definition;
       topics_.push_back(std::move(t));
     }
-    for (const Entry& e : entries_) {
-      BagTopic& t = topics_[by_name.at(connections_.at(e.connection).topic)];
-      if (t.messages == 0 || e.time_ns < t.first_ns) t.first_ns = e.time_ns;
-      if (t.messages == 0 || e.time_ns > t.last_ns) t.last_ns = e.time_ns;
-      ++t.messages;
-    }
+    for (const Entry& e : entries_)
+      count_message(topics_[by_name.at(connections_.at(e.connection).topic)], e.time_ns);
     std::sort(topics_.begin(), topics_.end(),
               [](const BagTopic& a, const BagTopic& b) { return a.name < b.name; });
   }
@@ -410,13 +400,6 @@ class Ros1Bag final : public BagReader {
 };
 
 }  // namespace
-
-std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics) {
-  std::string known;
-  for (const BagTopic& t : topics)
-    known += (known.empty() ? "" : ", ") + t.name + " [" + t.type + "]";
-  return "no topic '" + topic + "' (topics: " + (known.empty() ? "none" : known) + ")";
-}
 
 std::unique_ptr<BagReader> open_ros1_bag(const std::string& path) {
   return std::make_unique<Ros1Bag>(path);

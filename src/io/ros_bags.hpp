@@ -1,11 +1,15 @@
 // The bag readers behind open_bag.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "iilfm/error.hpp"
 #include "iilfm/io/bag.hpp"
 
 namespace iilfm::io {
@@ -30,5 +34,27 @@ std::string printable(std::string_view text);
 
 // "no topic '/x' (topics: /a [type], /b [type])"
 std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics);
+
+// What select() says of a topic no connection carries: the damage that stopped the listing before
+// one did, or the topics that exist.
+InputError no_topic_error(const std::string& path, const std::string& topic,
+                          const std::string& damage, const std::vector<BagTopic>& topics);
+
+// Adds a message recorded at `time_ns` to the topic's count and time span.
+void count_message(BagTopic& topic, std::int64_t time_ns);
+
+// The readers' index entries (time_ns and a connection or channel id) of the connections in `ids`,
+// in time order; equal times keep their order in `entries` (file order).
+template <typename Entry>
+std::vector<const Entry*> in_time_order(const std::vector<Entry>& entries,
+                                        const std::set<std::uint32_t>& ids,
+                                        std::uint32_t Entry::*connection) {
+  std::vector<const Entry*> selected;
+  for (const Entry& e : entries)
+    if (ids.count(e.*connection)) selected.push_back(&e);
+  std::stable_sort(selected.begin(), selected.end(),
+                   [](const Entry* a, const Entry* b) { return a->time_ns < b->time_ns; });
+  return selected;
+}
 
 }  // namespace iilfm::io
