@@ -16,22 +16,26 @@ docs/python.md.
 
 from ._iilfm import (  # noqa: F401
     Cloud,
+    FrameReader,
     InputError,
     Marker,
     Pipeline,
     Pose,
     Result,
     read_cloud,
+    read_frames,
     simulate,
 )
 
 __all__ = [
     "Cloud",
+    "FrameReader",
     "InputError",
     "Marker",
     "Pipeline",
     "Pose",
     "Result",
     "read_cloud",
+    "read_frames",
     "simulate",
 ]

@@ -32,9 +32,22 @@ class Cloud:
     def stats(self) -> dict[str, int]:
         """points_in_file, valid_points, non_finite, zero."""
     @property
-    def path(self) -> str: ...
+    def path(self) -> str:
+        """The file it was read from, 'rec.bag:/topic#12' for a recording's frame, '' if simulated."""
+    @property
+    def stamp(self) -> float | None:
+        """A recording's frame (read_frames): when it was taken, in seconds; else None."""
     def xyzi(self) -> npt.NDArray[np.float32]:
         """A new (N, 4) float32 array of x, y, z, intensity."""
+
+class FrameReader:
+    """The frames of a recording in time order; iterate for Clouds (with stamp and path)."""
+
+    def __iter__(self) -> FrameReader: ...
+    def __next__(self) -> Cloud: ...
+    def __len__(self) -> int: ...
+    @property
+    def name(self) -> str: ...
 
 class Marker:
     """One detected marker."""
@@ -170,6 +183,9 @@ class Pipeline:
 
 def read_cloud(path: str | PathLike[str]) -> Cloud:
     """Reads a .pcd or KITTI .bin file (NaN/Inf and zero points skipped, counted in stats)."""
+
+def read_frames(path: str | PathLike[str], topic: str | None = None) -> FrameReader:
+    """A bag's topic (.bag, ROS 2 folder or .db3, .mcap) or a folder of cloud files, frame by frame."""
 
 def simulate(
     *,

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,11 +17,13 @@ namespace iilfm::python {
 
 namespace py = pybind11;
 
-// A cloud read by read_cloud() or made by simulate(): C++ owns the columns, numpy views them.
+// A cloud read by read_cloud() or read_frames() or made by simulate(): C++ owns the columns,
+// numpy views them.
 struct Cloud {
   std::shared_ptr<PointCloud> points = std::make_shared<PointCloud>();
   CloudStats stats;
   std::string path;
+  std::optional<double> stamp;  // seconds; a frame of a recording only
 };
 
 // A numpy array over `data` (shape and strides in elements) that keeps `owner` alive.
@@ -48,6 +51,7 @@ py::array_t<double> to_numpy(const Matrix& m) {
 }
 
 void register_cloud(py::module_& m);
+void register_frames(py::module_& m);
 void register_pipeline(py::module_& m);
 void register_simulate(py::module_& m);
 

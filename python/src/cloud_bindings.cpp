@@ -64,7 +64,11 @@ void register_cloud(py::module_& m) {
       .def_property_readonly(
           "stats", [](const Cloud& c) { return stats_dict(c.stats); },
           "what the reader saw: points_in_file, valid_points, non_finite and zero (skipped)")
-      .def_readonly("path", &Cloud::path, "the file it was read from ('' when simulated)")
+      .def_readonly("path", &Cloud::path,
+                    "the file it was read from, 'rec.bag:/topic#12' for a frame of a recording, "
+                    "'' when simulated")
+      .def_readonly("stamp", &Cloud::stamp,
+                    "a recording's frame: when it was taken, seconds (read_frames); else None")
       .def(
           "xyzi",
           [](const Cloud& c) {

@@ -30,6 +30,7 @@ PYBIND11_MODULE(_iilfm, m) {
   // message the `iilfm` program prints after "iilfm: ".
   py::register_exception<iilfm::InputError>(m, "InputError", PyExc_ValueError);
   iilfm::python::register_cloud(m);
+  iilfm::python::register_frames(m);
   iilfm::python::register_pipeline(m);
   iilfm::python::register_simulate(m);
 }
