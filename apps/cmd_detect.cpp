@@ -22,6 +22,7 @@
 #include "iilfm/report_html.hpp"
 #include "iilfm/resolution.hpp"
 #include "iilfm/sensor.hpp"
+#include "text_output.hpp"
 
 namespace iilfm::cli {
 
@@ -216,18 +217,18 @@ std::string resolution_source(const DetectArgs& args, const ResolutionOrigin& or
                               : "given";
 }
 
-void report_resolution(const DetectArgs& args, const ResolutionOrigin& origin) {
+void report_resolution(const DetectArgs& args, const ResolutionOrigin& origin, std::ostream& out) {
   if (args.quiet) return;
   if (const std::optional<ResolutionEstimate>& estimated = origin.estimated) {
-    std::cout << "resolution estimated from the cloud (" << estimated->method
-              << "): " << estimated->res_h_deg << " x " << estimated->res_v_deg << " deg";
-    if (estimated->rings > 0) std::cout << ", " << estimated->rings << " rings";
-    std::cout << " (give --sensor or --res-h/--res-v to set it)\n";
+    out << "resolution estimated from the cloud (" << estimated->method
+        << "): " << estimated->res_h_deg << " x " << estimated->res_v_deg << " deg";
+    if (estimated->rings > 0) out << ", " << estimated->rings << " rings";
+    out << " (give --sensor or --res-h/--res-v to set it)\n";
   } else if (origin.mode_step_deg) {
     const SensorPreset& preset = find_sensor_preset(args.sensor);
-    std::cout << "columns from the cloud: " << std::lround(360.0 / *origin.mode_step_deg) << " ("
-              << *origin.mode_step_deg << " deg; preset " << preset.name << " assumes "
-              << std::lround(360.0 / preset.res_h_deg) << "; --res-h sets it)\n";
+    out << "columns from the cloud: " << std::lround(360.0 / *origin.mode_step_deg) << " ("
+        << *origin.mode_step_deg << " deg; preset " << preset.name << " assumes "
+        << std::lround(360.0 / preset.res_h_deg) << "; --res-h sets it)\n";
   }
 }
 
@@ -242,6 +243,10 @@ const FrameResult& process_or_explain(Pipeline& pipeline, const PointCloud& clou
 }
 
 int run_detect(const DetectArgs& args) {
+  const bool result_on_stdout = stdout_claimed(
+      {{"--json", args.json_path}, {"--jsonl", args.jsonl_path}, {"--tum", args.tum_path}},
+      {{"--image", args.image_path}, {"--html", args.html_path}});
+  std::ostream& report = report_stream(result_on_stdout);
   if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
   if (args.html_frame >= 0 && args.html_path.empty())
     throw InputError("--html-frame selects the frame the --html report of a sequence shows");
@@ -281,10 +286,10 @@ int run_detect(const DetectArgs& args) {
     if (!args.json_path.empty() || !args.image_path.empty())
       throw InputError(
           "--json and --image take one cloud; a sequence writes --jsonl, --tum and --html");
-    return run_detect_sequence(sequence, [&args](const PointCloud& first, std::string& source) {
+    return run_detect_sequence(sequence, [&](const PointCloud& first, std::string& source) {
       ResolutionOrigin origin;
       PipelineOptions options = pipeline_options(args, first, origin);
-      report_resolution(args, origin);
+      report_resolution(args, origin, report);
       source = resolution_source(args, origin);
       return options;
     });
@@ -313,17 +318,13 @@ int run_detect(const DetectArgs& args) {
   info.resolution_source = resolution_source(args, origin);
   const FrameResult& result = process_or_explain(pipeline, loaded.cloud, args.input);
   // Printed only now, so a refused cloud leaves nothing on stdout.
-  report_resolution(args, origin);
-  if (!args.json_path.empty()) {
-    const std::string text = result_to_json(result, info).dump(2) + "\n";
-    std::ofstream file(args.json_path);
-    if (!file || !(file << text) || !file.flush())
-      throw file_error(args.json_path, "cannot write JSON");
-  }
+  report_resolution(args, origin, report);
+  if (!args.json_path.empty())
+    write_text(args.json_path, result_to_json(result, info).dump(2) + "\n", "JSON");
   if (!args.image_path.empty()) write_overlay(args.image_path, result);
   if (!args.html_path.empty())
     write_html_report(args.html_path, {HtmlFrame{&result, info, PointView(loaded.cloud)}});
-  if (!args.quiet) print_summary(result, loaded, std::cout);
+  if (!args.quiet) print_summary(result, loaded, report);
   return 0;
 }
 
@@ -420,7 +421,7 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option("--aruco-window-step", args->aruco_window_step,
                   "ArUco adaptive threshold: window step (pixels, default 10)")
       ->check(CLI::Range(1, 255));
-  cmd->add_option("--json", args->json_path, "Write the result as JSON");
+  cmd->add_option("--json", args->json_path, "Write the result as JSON (- for stdout)");
   cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
   cmd->add_option("--html", args->html_path,
                   "Write a self-contained HTML report (3-D view, image, tables; sequences: the "
@@ -429,8 +430,10 @@ Runner register_detect_command(CLI::App& app) {
                   "Sequence --html: the frame shown in full (default: the last with markers)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--topic", args->topic, "Bag topic with the point clouds (bag input)");
-  cmd->add_option("--jsonl", args->jsonl_path, "Sequence: one JSON result per frame (JSON Lines)");
-  cmd->add_option("--tum", args->tum_path, "Sequence: LiDAR trajectory in TUM format");
+  cmd->add_option("--jsonl", args->jsonl_path,
+                  "Sequence: one JSON result per frame (JSON Lines; - for stdout)");
+  cmd->add_option("--tum", args->tum_path,
+                  "Sequence: LiDAR trajectory in TUM format (- for stdout)");
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success (and no progress bar)");
   return [args] { return run_detect(*args); };
 }

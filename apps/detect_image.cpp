@@ -12,6 +12,7 @@
 #include "iilfm/error.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "text_output.hpp"
 
 namespace iilfm::cli {
 
@@ -92,21 +93,19 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
     const InputInfo info{args.path, stats, read_ms, "image pixels"};
     nlohmann::json j = result_to_json(result, info);
     j["input"]["kind"] = "image";
-    std::ofstream file(args.json_path);
-    if (!file || !(file << j.dump(2) << "\n") || !file.flush())
-      throw file_error(args.json_path, "cannot write JSON");
+    write_text(args.json_path, j.dump(2) + "\n", "JSON");
   }
   if (!args.image_path.empty()) write_overlay(args.image_path, result);
   if (!args.quiet) {
-    std::cout << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
-              << result.preprocessed.threshold << "\n"
-              << result.markers.size() << " marker(s)\n"
-              << std::fixed << std::setprecision(1);
+    std::ostream& out = report_stream(is_stdout(args.json_path));
+    out << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
+        << result.preprocessed.threshold << "\n"
+        << result.markers.size() << " marker(s)\n"
+        << std::fixed << std::setprecision(1);
     for (const MarkerResult& m : result.markers) {
-      std::cout << "  " << m.detection.family << " id " << m.detection.id << ":";
-      for (const Vec2& px : m.detection.corners_px)
-        std::cout << " (" << px.x() << ", " << px.y() << ")";
-      std::cout << " px\n";
+      out << "  " << m.detection.family << " id " << m.detection.id << ":";
+      for (const Vec2& px : m.detection.corners_px) out << " (" << px.x() << ", " << px.y() << ")";
+      out << " px\n";
     }
   }
   return 0;

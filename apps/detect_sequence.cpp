@@ -14,6 +14,7 @@
 #include "iilfm/report.hpp"
 #include "iilfm/report_html.hpp"
 #include "progress_bar.hpp"
+#include "text_output.hpp"
 
 namespace iilfm::cli {
 namespace {
@@ -24,19 +25,21 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// An output file written line by line and flushed after each line, so what was written before a
-// failure is complete and readable.
+// An output written line by line and flushed after each line, so what was written before a
+// failure is complete and readable: a file, or stdout for "-".
 class LineFile {
  public:
   explicit LineFile(const std::string& path) : path_(path) {
-    if (path.empty()) return;
+    if (path.empty() || is_stdout(path)) return;
     file_.open(path);
     if (!file_) throw file_error(path, "cannot open for writing");
   }
   bool active() const { return !path_.empty(); }
   void write(const std::string& line) {
     if (!active()) return;
-    if (!(file_ << line << '\n') || !file_.flush()) throw file_error(path_, "write failed");
+    std::ostream& out = is_stdout(path_) ? std::cout : file_;
+    if (!(out << line << '\n') || !out.flush())
+      throw file_error(is_stdout(path_) ? "stdout" : path_, "write failed");
   }
 
  private:
@@ -199,10 +202,13 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     html->write(args.html_path);
   }
   if (!args.quiet) {
-    std::printf(
+    char line[512];
+    std::snprintf(
+        line, sizeof line,
         "%zu frames from %s: %zu result(s), markers in %zu, LiDAR pose in %zu; %.1f frames/s\n",
         counts.frames, source->name().c_str(), counts.results, counts.with_markers,
         counts.with_pose, progress.rate(counts.frames));
+    report_stream(is_stdout(args.jsonl_path) || is_stdout(args.tum_path)) << line << std::flush;
   }
   return 0;
 }

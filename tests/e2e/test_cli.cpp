@@ -252,3 +252,38 @@ TEST(Cli, SensorsListsThePresets) {
 }
 
 }  // namespace
+
+// "-" sends a text result to stdout for a pipe; the human report moves to stderr so stdout holds
+// the result alone. Same result as the file.
+TEST(Cli, DashWritesTheResultToStdoutAndTheReportToStderr) {
+  const fs::path d = cli_temp_dir();
+  const std::string sample = std::string(IILFM_SOURCE_DIR) + "/data/sample/mid40_tag_wall.pcd";
+  const std::string json = (d / "dash.json").string();
+  const CliRun to_file = run_cli("detect " + sample + " --sensor mid40 --json " + json);
+  ASSERT_EQ(to_file.status, 0) << to_file.err;
+  const CliRun piped = run_cli("detect " + sample + " --sensor mid40 --json -");
+  ASSERT_EQ(piped.status, 0) << piped.err;
+  const nlohmann::json from_stdout = nlohmann::json::parse(piped.out);  // nothing else on stdout
+  nlohmann::json from_file = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(from_stdout["markers"], from_file["markers"]);
+  EXPECT_NE(piped.err.find("apriltag:tag36h11 id 0"), std::string::npos) << piped.err;
+  EXPECT_FALSE(fs::exists("-"));
+
+  // A recording: one JSON line per frame on stdout, the closing summary on stderr.
+  const std::string mcap = std::string(IILFM_SOURCE_DIR) + "/tests/data/mcap/points_zstd.mcap";
+  const CliRun lines = run_cli("detect " + mcap + " --topic /points --res-h 1 --res-v 1 --jsonl -");
+  ASSERT_EQ(lines.status, 0) << lines.err;
+  std::istringstream in(lines.out);
+  std::string line;
+  int count = 0;
+  while (std::getline(in, line)) {
+    EXPECT_EQ(nlohmann::json::parse(line)["frame"], count) << line;
+    ++count;
+  }
+  EXPECT_EQ(count, 5);
+  EXPECT_NE(lines.err.find("5 frames from"), std::string::npos) << lines.err;
+
+  expect_input_error("detect " + sample + " --jsonl - --tum -", "only one output can be stdout");
+  expect_input_error("detect " + sample + " --json - --image -",
+                     "--image -: only --json, --jsonl and --tum write to stdout");
+}

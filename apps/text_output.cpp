@@ -1,0 +1,42 @@
+#include "text_output.hpp"
+
+#include <fstream>
+#include <iostream>
+
+#include "iilfm/error.hpp"
+
+namespace iilfm::cli {
+
+bool is_stdout(const std::string& path) { return path == "-"; }
+
+bool stdout_claimed(const std::vector<std::pair<const char*, std::string>>& text,
+                    const std::vector<std::pair<const char*, std::string>>& binary) {
+  for (const auto& [name, path] : binary)
+    if (is_stdout(path))
+      throw InputError(std::string(name) + " -: only --json, --jsonl and --tum write to stdout");
+  const char* claimed = nullptr;
+  for (const auto& [name, path] : text) {
+    if (!is_stdout(path)) continue;
+    if (claimed)
+      throw InputError(std::string(claimed) + " - and " + name +
+                       " -: only one output can be stdout");
+    claimed = name;
+  }
+  return claimed != nullptr;
+}
+
+std::ostream& report_stream(bool result_on_stdout) {
+  return result_on_stdout ? std::cerr : std::cout;
+}
+
+void write_text(const std::string& path, const std::string& text, const std::string& what) {
+  if (is_stdout(path)) {
+    if (!(std::cout << text) || !std::cout.flush())
+      throw file_error("stdout", "cannot write " + what);
+    return;
+  }
+  std::ofstream file(path);
+  if (!file || !(file << text) || !file.flush()) throw file_error(path, "cannot write " + what);
+}
+
+}  // namespace iilfm::cli
