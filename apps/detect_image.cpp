@@ -5,11 +5,11 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
 #include "iilfm/duplicates.hpp"
 #include "iilfm/error.hpp"
+#include "iilfm/image_files.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
 #include "text_output.hpp"
@@ -28,18 +28,7 @@ bool is_image_input(const std::string& path) {
 
 int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  cv::Mat raw;
-  try {
-    raw = cv::imread(args.path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    raw.release();
-  }
-  if (raw.empty()) throw file_error(args.path, "cannot read the image (PNG, PGM or TIFF)");
-  if (raw.channels() != 1)
-    throw file_error(args.path, "expected a single-channel intensity image, got " +
-                                    std::to_string(raw.channels()) + " channels");
-  if (raw.depth() != CV_8U && raw.depth() != CV_16U)
-    throw file_error(args.path, "expected an 8- or 16-bit intensity image");
+  const cv::Mat raw = read_intensity_image(args.path);
 
   // The image stands in for the projected intensity; 0 is "no return", as drivers write it.
   FrameResult result;

@@ -1,17 +1,14 @@
 #include "marker_print.hpp"
-
-#include <zlib.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <vector>
 
 #include "iilfm/error.hpp"
+#include "iilfm/image_files.hpp"
 #include "iilfm/rings_family.hpp"
 #include "iilfm/sim/marker_texture.hpp"
 
@@ -192,23 +189,9 @@ std::string render_marker_svg(const MarkerPrintRequest& request) {
 }
 
 void write_png_with_dpi(const std::string& path, const cv::Mat& image, double dpi) {
-  std::vector<std::uint8_t> png;
-  if (!cv::imencode(".png", image, png)) throw file_error(path, "cannot encode the PNG");
-  // pHYs chunk (pixels per metre, unit 1 = metre) right after the 33-byte signature + IHDR.
-  const auto ppm = static_cast<std::uint32_t>(std::lround(dpi / kMetresPerInch));
-  std::vector<std::uint8_t> chunk = {0, 0, 0, 9, 'p', 'H', 'Y', 's'};
-  for (int axis = 0; axis < 2; ++axis)
-    for (int shift = 24; shift >= 0; shift -= 8) chunk.push_back((ppm >> shift) & 0xff);
-  chunk.push_back(1);
-  const uLong crc = crc32(crc32(0L, Z_NULL, 0), chunk.data() + 4, 13);
-  for (int shift = 24; shift >= 0; shift -= 8) chunk.push_back((crc >> shift) & 0xff);
-  png.insert(png.begin() + 33, chunk.begin(), chunk.end());
-  std::ofstream file(path, std::ios::binary);
-  if (!file ||
-      !file.write(reinterpret_cast<const char*>(png.data()),
-                  static_cast<std::streamsize>(png.size())) ||
-      !file.flush())
-    throw file_error(path, "cannot write the PNG");
+  const std::vector<std::uint8_t> png = encode_png(image, dpi);
+  if (png.empty()) throw file_error(path, "cannot encode the PNG");
+  write_bytes_to_file(path, png, "the PNG");
 }
 
 }  // namespace iilfm::cli

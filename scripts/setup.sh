@@ -8,6 +8,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libapriltag-dev libopencv-dev libopencv-contrib-dev zlib1g-dev
+  # image files (PNG, JPEG, TIFF) without OpenCV's codec module (include/iilfm/image_files.hpp)
+  libpng-dev libjpeg-dev libtiff-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # bag readers (ROS 1 bz2/lz4 chunks, ROS 2 sqlite3, MCAP lz4/zstd chunks) and real bag writers

@@ -6,10 +6,10 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <utility>
 
 #include "iilfm/error.hpp"
+#include "iilfm/image_files.hpp"
 #include "report_viewer.hpp"
 
 namespace iilfm {
@@ -88,8 +88,7 @@ json frame_json(const HtmlFrameData& frame) {
                   {"intensity_u8", base64(frame.intensity.data(), frame.intensity.size())}};
   // JPEG: the noisy gray picture is ~8x smaller than as PNG, and the drawn lines stay sharp
   // enough at this quality.
-  std::vector<std::uint8_t> jpeg;
-  cv::imencode(".jpg", frame.overlay, jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
+  const std::vector<std::uint8_t> jpeg = encode_jpeg(frame.overlay, 90);
   out["overlay_image"] = "data:image/jpeg;base64," + base64(jpeg.data(), jpeg.size());
   return out;
 }

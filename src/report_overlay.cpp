@@ -1,10 +1,10 @@
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "iilfm/error.hpp"
+#include "iilfm/image_files.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
 
@@ -81,13 +81,9 @@ cv::Mat draw_overlay(const FrameResult& result) {
 }
 
 void write_overlay(const std::string& path, const FrameResult& result) {
-  bool written = false;
-  try {
-    written = cv::imwrite(path, draw_overlay(result));
-  } catch (const cv::Exception&) {
-    written = false;
-  }
-  if (!written) throw file_error(path, "cannot write image (use a .png path)");
+  const std::vector<std::uint8_t> png = encode_png(draw_overlay(result));
+  if (png.empty()) throw file_error(path, "cannot encode the PNG");
+  write_bytes_to_file(path, png, "the PNG");
 }
 
 }  // namespace iilfm
