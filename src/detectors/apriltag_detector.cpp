@@ -3,6 +3,9 @@
 #include <apriltag/apriltag.h>
 
 #include <algorithm>
+#include <map>
+#include <mutex>
+#include <utility>
 
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/error.hpp"
@@ -27,11 +30,39 @@ double decode_reach(const apriltag_family_t& family) {
   return 2.0 * cells / border;
 }
 
+// libapriltag keeps a family's decoding table (every code within `bits` bit errors: about 19 MB
+// and 10-40 ms to build for tag36h11 at 2 bits) in the family object, and builds it when a family
+// without one is added to a detector. One family object per (family, bits), with its table, serves
+// every detector of the process, so a Pipeline made per scan (iilfm eval, Python) does not rebuild
+// it. Detectors only read the table. The map is never freed: it stays reachable until exit.
+apriltag_family_t* shared_family(const AprilTagFamilyEntry& entry, int bits) {
+  static std::mutex mutex;
+  static auto* families = new std::map<std::pair<std::string, int>, apriltag_family_t*>();
+  const std::lock_guard<std::mutex> lock(mutex);
+  apriltag_family_t*& family = (*families)[{entry.name, bits}];
+  if (!family) {
+    family = entry.create();
+    // Built here, under the lock, by a detector that then lets go of the family without freeing
+    // the table (apriltag_detector_destroy would: it frees the tables of the families it holds).
+    apriltag_detector_t* builder = apriltag_detector_create();
+    apriltag_detector_add_family_bits(builder, family, bits);
+    zarray_clear(builder->tag_families);
+    apriltag_detector_destroy(builder);
+  }
+  return family;
+}
+
 class AprilTagDetector final : public MarkerDetector {
  public:
   AprilTagDetector(const AprilTagFamilyEntry& entry, const AprilTagOptions& options)
       : entry_(entry), name_(std::string("apriltag:") + entry.name) {
-    family_ = entry_.create();
+    apriltag_family_t* own = entry_.create();  // for its bit count; the table comes shared
+    const int bits = options.max_hamming >= 0
+                         ? options.max_hamming
+                         : default_max_hamming(static_cast<int>(own->h), own->ncodes,
+                                               static_cast<int>(own->nbits));
+    entry_.destroy(own);
+    family_ = shared_family(entry_, bits);
     detector_ = apriltag_detector_create();
     detector_->quad_decimate = options.decimate;
     detector_->quad_sigma = options.sigma;
@@ -41,11 +72,7 @@ class AprilTagDetector final : public MarkerDetector {
     detector_->nthreads = 1;
     detector_->refine_edges = options.refine_edges;
     detector_->decode_sharpening = options.decode_sharpening;
-    const int bits = options.max_hamming >= 0
-                         ? options.max_hamming
-                         : default_max_hamming(static_cast<int>(family_->h), family_->ncodes,
-                                               static_cast<int>(family_->nbits));
-    apriltag_detector_add_family_bits(detector_, family_, bits);
+    apriltag_detector_add_family_bits(detector_, family_, bits);  // the table exists: not rebuilt
     // Regions keep libapriltag's own thresholds only without decimation or blur, which change
     // the tiles' footprint (docs/detectors.md).
     use_regions_ = options.search_regions && options.decimate <= 1 && options.sigma == 0;
@@ -54,8 +81,8 @@ class AprilTagDetector final : public MarkerDetector {
     rules_.min_side_px = std::max(3, family_->width_at_border - 1);
   }
   ~AprilTagDetector() override {
+    zarray_clear(detector_->tag_families);  // the shared family and its table stay
     apriltag_detector_destroy(detector_);
-    entry_.destroy(family_);
   }
   AprilTagDetector(const AprilTagDetector&) = delete;
   AprilTagDetector& operator=(const AprilTagDetector&) = delete;
@@ -130,11 +157,11 @@ class AprilTagDetector final : public MarkerDetector {
     apriltag_detections_destroy(found);
   }
 
-  // A copy, not a reference into the families table: a detector outliving that function-static
-  // table (a Pipeline with static storage made before the table) still destroys its family.
+  // A copy, not a reference into the families table, which a detector with static storage may
+  // outlive.
   const AprilTagFamilyEntry entry_;
   std::string name_;
-  apriltag_family_t* family_ = nullptr;
+  apriltag_family_t* family_ = nullptr;  // shared_family's: never freed by the detector
   apriltag_detector_t* detector_ = nullptr;
   bool use_regions_ = false;
   bool decode_gray_ = true;
