@@ -119,6 +119,34 @@ TEST(AprilTagDetector, DefaultCorrectionKeepsChanceMatchesRare) {
   EXPECT_EQ(default_max_hamming(5, 30, 16), 0);      // tag16h5
 }
 
+// The decoding table is shared by every detector of its (family, bits) and outlives them: a tag
+// with two wrong bits decodes with 2 bits corrected, not with 0, whichever detector came and went
+// before (under AddressSanitizer a freed table would be a use after free).
+TEST(AprilTagDetector, SharedDecodingTablesOutliveTheirDetectorsAndKeepTheirBits) {
+  int border = 0;
+  cv::Mat tag = testing::render_apriltag("tag36h11", 5, &border);
+  const int data = (tag.cols - border) / 2 + 1;  // first data cell inside the black border
+  for (const cv::Point cell : {cv::Point(data + 1, data + 1), cv::Point(data + 3, data + 2)})
+    tag.at<std::uint8_t>(cell) = static_cast<std::uint8_t>(255 - tag.at<std::uint8_t>(cell));
+  cv::Mat big, image;
+  cv::resize(tag, big, cv::Size(), kCell, kCell, cv::INTER_NEAREST);
+  cv::copyMakeBorder(big, image, kMargin, kMargin, kMargin, kMargin, cv::BORDER_CONSTANT, 255);
+  const auto ids_found = [&](int max_hamming) {
+    DetectorOptions options;
+    options.apriltag.max_hamming = max_hamming;
+    std::vector<Detection> found;
+    make_detector("apriltag:tag36h11", options)->detect(image, found);  // destroyed after
+    std::vector<int> ids;
+    for (const Detection& d : found) ids.push_back(d.id);
+    return ids;
+  };
+  EXPECT_EQ(ids_found(2), std::vector<int>{5});
+  EXPECT_EQ(ids_found(0), std::vector<int>{});
+  EXPECT_EQ(ids_found(2), std::vector<int>{5});
+  EXPECT_EQ(ids_found(-1), std::vector<int>{5});  // the default for tag36h11 is 2
+  EXPECT_EQ(ids_found(0), std::vector<int>{});
+}
+
 TEST(DetectorRegistry, RejectsUnknownFamiliesWithAHint) {
   try {
     make_detector("tag36h11");
