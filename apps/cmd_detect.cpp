@@ -246,6 +246,7 @@ int run_detect(const DetectArgs& args) {
       {{"--json", args.json_path}, {"--jsonl", args.jsonl_path}, {"--tum", args.tum_path}},
       {{"--image", args.image_path}, {"--html", args.html_path}});
   std::ostream& report = report_stream(result_on_stdout);
+  if (!args.image_path.empty()) check_overlay_path(args.image_path);         // before any output
   if (!args.html_path.empty() && !html_report_available()) html_report({});  // throws why
   if (args.html_frame >= 0 && args.html_path.empty())
     throw InputError("--html-frame selects the frame the --html report of a sequence shows");
@@ -421,7 +422,8 @@ Runner register_detect_command(CLI::App& app) {
                   "ArUco adaptive threshold: window step (pixels, default 10)")
       ->check(CLI::Range(1, 255));
   cmd->add_option("--json", args->json_path, "Write the result as JSON (- for stdout)");
-  cmd->add_option("--image", args->image_path, "Write the intensity image with detections (PNG)");
+  cmd->add_option("--image", args->image_path,
+                  "Write the intensity image with detections (.png, or .jpg for JPEG)");
   cmd->add_option("--html", args->html_path,
                   "Write a self-contained HTML report (3-D view, image, tables; sequences: the "
                   "trajectory and every frame's detections)");

@@ -1,5 +1,7 @@
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -80,10 +82,26 @@ cv::Mat draw_overlay(const FrameResult& result) {
   return canvas;
 }
 
+namespace {
+// True for a .jpg/.jpeg path, false for .png; InputError for anything else.
+bool overlay_as_jpeg(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool jpeg = extension == ".jpg" || extension == ".jpeg";
+  if (!jpeg && extension != ".png")
+    throw file_error(path, "the image is written as PNG or JPEG: use a .png or .jpg path");
+  return jpeg;
+}
+}  // namespace
+
+void check_overlay_path(const std::string& path) { overlay_as_jpeg(path); }
+
 void write_overlay(const std::string& path, const FrameResult& result) {
-  const std::vector<std::uint8_t> png = encode_png(draw_overlay(result));
-  if (png.empty()) throw file_error(path, "cannot encode the PNG");
-  write_bytes_to_file(path, png, "the PNG");
+  const bool jpeg = overlay_as_jpeg(path);
+  const cv::Mat overlay = draw_overlay(result);
+  const std::vector<std::uint8_t> bytes = jpeg ? encode_jpeg(overlay, 95) : encode_png(overlay);
+  if (bytes.empty()) throw file_error(path, "cannot encode the image");
+  write_bytes_to_file(path, bytes, jpeg ? "the JPEG" : "the PNG");
 }
 
 }  // namespace iilfm

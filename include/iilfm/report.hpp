@@ -24,7 +24,10 @@ nlohmann::json result_to_json(const FrameResult& result, const InputInfo& input)
 // (1 = top-left ... 4 = bottom-left) and id.
 cv::Mat draw_overlay(const FrameResult& result);
 
-// Writes draw_overlay's picture; InputError naming `path` when it cannot be written.
+// Writes draw_overlay's picture, as PNG or (for a .jpg/.jpeg path) JPEG; InputError naming `path`
+// for another extension or when it cannot be written.
 void write_overlay(const std::string& path, const FrameResult& result);
+// The extension check of write_overlay alone, for callers that refuse bad paths up front.
+void check_overlay_path(const std::string& path);
 
 }  // namespace iilfm

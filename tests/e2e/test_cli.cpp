@@ -287,3 +287,27 @@ TEST(Cli, DashWritesTheResultToStdoutAndTheReportToStderr) {
   expect_input_error("detect " + sample + " --json - --image -",
                      "--image -: only --json, --jsonl and --tum write to stdout");
 }
+
+// --image writes PNG, or JPEG for a .jpg path; another extension is refused before any output.
+TEST(Cli, ImageIsPngOrJpegByItsExtension) {
+  const fs::path d = cli_temp_dir();
+  const std::string sample = std::string(IILFM_SOURCE_DIR) + "/data/sample/mid40_tag_wall.pcd";
+  for (const std::string name : {"overlay.png", "overlay.JPG"}) {
+    const std::string path = (d / name).string();
+    const CliRun r = run_cli("detect " + sample + " --sensor mid40 -q --image " + path);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string bytes = slurp(path);
+    ASSERT_GT(bytes.size(), 1000u);
+    if (name == "overlay.png") {
+      EXPECT_EQ(bytes.substr(1, 3), "PNG");
+    } else {
+      EXPECT_EQ(static_cast<unsigned char>(bytes[0]), 0xFF);  // JPEG start of image
+      EXPECT_EQ(static_cast<unsigned char>(bytes[1]), 0xD8);
+    }
+  }
+  const std::string json = (d / "not_written.json").string();
+  expect_input_error("detect " + sample + " --sensor mid40 --json " + json + " --image " +
+                         (d / "overlay.bmp").string(),
+                     "use a .png or .jpg path");
+  EXPECT_FALSE(fs::exists(json));
+}
