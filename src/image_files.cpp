@@ -1,9 +1,9 @@
 #include "iilfm/image_files.hpp"
 
-// clang-format off: jpeglib.h needs <cstdio> first.
-#include <jpeglib.h>
-
+// jpeglib.h uses FILE without including <cstdio>: it must come first.
+// clang-format off
 #include <cstdio>
+#include <jpeglib.h>
 // clang-format on
 #include <png.h>
 #include <tiffio.h>
