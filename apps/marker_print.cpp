@@ -1,4 +1,5 @@
 #include "marker_print.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
