@@ -10,6 +10,7 @@
 #include "iilfm/duplicates.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/image_files.hpp"
+#include "iilfm/io/cloud_io.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
 #include "text_output.hpp"
@@ -21,8 +22,7 @@ constexpr double kDegToRad = M_PI / 180.0;
 }
 
 bool is_image_input(const std::string& path) {
-  std::string ext = path.substr(std::min(path.size(), path.find_last_of('.')));
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  const std::string ext = io::lower_extension(path);
   return ext == ".png" || ext == ".pgm" || ext == ".tif" || ext == ".tiff";
 }
 

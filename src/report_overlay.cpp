@@ -1,12 +1,11 @@
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "iilfm/error.hpp"
 #include "iilfm/image_files.hpp"
+#include "iilfm/io/cloud_io.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/square_pixels.hpp"
 
@@ -85,8 +84,7 @@ cv::Mat draw_overlay(const FrameResult& result) {
 namespace {
 // True for a .jpg/.jpeg path, false for .png; InputError for anything else.
 bool overlay_as_jpeg(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = io::lower_extension(path);
   const bool jpeg = extension == ".jpg" || extension == ".jpeg";
   if (!jpeg && extension != ".png")
     throw file_error(path, "the image is written as PNG or JPEG: use a .png or .jpg path");

@@ -3,18 +3,10 @@
 #include <filesystem>
 
 #include "iilfm/error.hpp"
+#include "iilfm/io/cloud_io.hpp"
 #include "ros_bags.hpp"
 
 namespace iilfm::io {
-namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-}  // namespace
 
 std::string printable(std::string_view text) {
   std::string out(text);

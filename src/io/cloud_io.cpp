@@ -8,14 +8,19 @@
 #include "iilfm/error.hpp"
 
 namespace iilfm::io {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
 namespace {
 
 enum class CloudFormat { kUnknown, kPcd, kKitti, kPly, kText };
 
 CloudFormat format_of(const std::string& path) {
-  std::string lower = std::filesystem::path(path).extension().string();
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string lower = lower_extension(path);
   if (lower == ".pcd") return CloudFormat::kPcd;
   if (lower == ".bin") return CloudFormat::kKitti;
   if (lower == ".ply") return CloudFormat::kPly;

@@ -37,6 +37,10 @@ LoadedCloud read_cloud(const std::string& path);
 // True when read_cloud takes files with this path's extension.
 bool is_cloud_file(const std::string& path);
 
+// The extension of the path's file name, lower-case (".pcd"; "" when it has none): how every
+// reader and writer of iilfm is chosen.
+std::string lower_extension(const std::string& path);
+
 enum class PcdEncoding { kAscii, kBinary, kBinaryCompressed };
 
 // Writes x y z intensity (float32), plus ring (uint16) and time (float64) when the cloud has them.
