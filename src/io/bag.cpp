@@ -46,10 +46,17 @@ bool is_bag_path(const std::string& path) {
 std::unique_ptr<BagReader> open_bag(const std::string& path) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw file_error(path, "no such file or folder");
-  if (fs::is_directory(path))
-    return ros2_storage(path).identifier == "mcap" ? open_mcap_bag(path) : open_ros2_bag(path);
-  if (lower_extension(path) == ".db3") return open_ros2_bag(path);
-  if (lower_extension(path) == ".mcap") return open_mcap_bag(path);
+  if (fs::is_directory(path)) {
+    // metadata.yaml read once, here: its plugin picks the reader, its files go to it.
+    const Ros2Storage storage = ros2_storage(path);
+    if (storage.identifier == "mcap") return open_mcap_bag(path, storage.files);
+    if (storage.identifier != "sqlite3")
+      throw file_error(path, "ROS 2 storage '" + storage.identifier +
+                                 "' is not supported (supported: sqlite3, mcap)");
+    return open_ros2_bag(path, storage.files);
+  }
+  if (lower_extension(path) == ".db3") return open_ros2_bag(path, {path});
+  if (lower_extension(path) == ".mcap") return open_mcap_bag(path, {path});
   return open_ros1_bag(path);
 }
 

@@ -545,10 +545,9 @@ class McapBag final : public BagReader {
 
 }  // namespace
 
-std::unique_ptr<BagReader> open_mcap_bag(const std::string& path) {
-  if (!fs::is_directory(path))
-    return std::make_unique<McapBag>(path, std::vector<std::string>{path});
-  return std::make_unique<McapBag>(path, ros2_storage(path).files);
+std::unique_ptr<BagReader> open_mcap_bag(const std::string& path,
+                                         const std::vector<std::string>& files) {
+  return std::make_unique<McapBag>(path, files);
 }
 
 }  // namespace iilfm::io

@@ -31,17 +31,6 @@ std::string text_column(sqlite3_stmt* s, int column) {
   return text ? printable(reinterpret_cast<const char*>(text)) : "";
 }
 
-// The .db3 files of a bag path, in recording order.
-std::vector<std::string> storage_files(const std::string& path) {
-  if (!fs::is_directory(path)) return {path};
-  Ros2Storage storage = ros2_storage(path);
-  if (storage.identifier != "sqlite3")
-    throw file_error(path, "ROS 2 storage '" + storage.identifier +
-                               "' is not supported (supported: sqlite3, mcap)");
-  if (storage.files.empty()) throw file_error(path, "no .db3 files in this ROS 2 bag");
-  return storage.files;
-}
-
 struct TopicRow {
   std::int64_t id;
   std::string serialization;
@@ -49,8 +38,9 @@ struct TopicRow {
 
 class Ros2Bag final : public BagReader {
  public:
-  explicit Ros2Bag(const std::string& path) : path_(path) {
-    for (const std::string& file : storage_files(path)) open_file(file);
+  Ros2Bag(std::string path, const std::vector<std::string>& files) : path_(std::move(path)) {
+    if (files.empty()) throw file_error(path_, "no .db3 files in this ROS 2 bag");
+    for (const std::string& file : files) open_file(file);
     std::sort(topics_.begin(), topics_.end(),
               [](const BagTopic& a, const BagTopic& b) { return a.name < b.name; });
   }
@@ -168,8 +158,9 @@ class Ros2Bag final : public BagReader {
 
 }  // namespace
 
-std::unique_ptr<BagReader> open_ros2_bag(const std::string& path) {
-  return std::make_unique<Ros2Bag>(path);
+std::unique_ptr<BagReader> open_ros2_bag(const std::string& path,
+                                         const std::vector<std::string>& files) {
+  return std::make_unique<Ros2Bag>(path, files);
 }
 
 }  // namespace iilfm::io

@@ -15,10 +15,14 @@
 namespace iilfm::io {
 
 std::unique_ptr<BagReader> open_ros1_bag(const std::string& path);
-// A ROS 2 bag in the sqlite3 storage: a folder, or one .db3 file.
-std::unique_ptr<BagReader> open_ros2_bag(const std::string& path);
-// MCAP: one .mcap file, or a ROS 2 bag folder in the mcap storage (src/io/mcap_bag.cpp).
-std::unique_ptr<BagReader> open_mcap_bag(const std::string& path);
+// The ROS 2 readers take the bag's path (for messages) and its storage files, read as one
+// recording: the folder's (ros2_storage), or the path itself for a single file.
+// The sqlite3 storage: .db3 files.
+std::unique_ptr<BagReader> open_ros2_bag(const std::string& path,
+                                         const std::vector<std::string>& files);
+// MCAP files (src/io/mcap_bag.cpp).
+std::unique_ptr<BagReader> open_mcap_bag(const std::string& path,
+                                         const std::vector<std::string>& files);
 
 // A ROS 2 bag folder's storage plugin ("sqlite3", "mcap", ...) and files, from its metadata.yaml;
 // without one, the folder's .db3 and .mcap files in name order.
