@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -202,13 +203,12 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     html->write(args.html_path);
   }
   if (!args.quiet) {
-    char line[512];
-    std::snprintf(
-        line, sizeof line,
-        "%zu frames from %s: %zu result(s), markers in %zu, LiDAR pose in %zu; %.1f frames/s\n",
-        counts.frames, source->name().c_str(), counts.results, counts.with_markers,
-        counts.with_pose, progress.rate(counts.frames));
-    report_stream(is_stdout(args.jsonl_path) || is_stdout(args.tum_path)) << line << std::flush;
+    // Streamed, not through a fixed buffer: a long recording path is not cut.
+    std::ostream& out = report_stream(is_stdout(args.jsonl_path) || is_stdout(args.tum_path));
+    out << counts.frames << " frames from " << source->name() << ": " << counts.results
+        << " result(s), markers in " << counts.with_markers << ", LiDAR pose in "
+        << counts.with_pose << "; " << std::fixed << std::setprecision(1)
+        << progress.rate(counts.frames) << " frames/s" << std::endl;
   }
   return 0;
 }
