@@ -261,13 +261,20 @@ int run_detect(const DetectArgs& args) {
     if (!args.sensor.empty() || (args.res_h > 0 && args.res_v > 0)) {
       options = pipeline_options(args, PointCloud{}, none);
     } else {
-      // No geometry known: square pixels. Gray input levels, so Otsu unless --threshold.
+      // No geometry known: square pixels.
       DetectArgs square = args;
       square.res_h = square.res_v = 1;
       options = pipeline_options(square, PointCloud{}, none);
     }
     // An image has no range: a preset's normalisation does not apply.
     options.preprocess.normalise.mode = IntensityNormalisation::kNone;
+    // A driver's 8-bit image is scaled for viewing, not in the cloud's intensity units, and one
+    // global threshold over a room loses markers lit or ranged differently (the real Ouster image:
+    // Otsu's keeps id 0 of its ids 0, 1 and 3): the local threshold unless --threshold says.
+    if (args.threshold.empty()) {
+      options.preprocess.threshold.reset();  // flat regions: Otsu's, in the image's gray levels
+      options.preprocess.local_threshold = true;
+    }
     return run_detect_image({args.input, args.json_path, args.image_path, args.quiet}, options);
   }
   SequenceArgs sequence;
@@ -372,7 +379,7 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option(
       "--threshold", args->threshold,
       "Naive threshold in intensity units, 'otsu', or 'local' (local mean where the image "
-      "has contrast; default: the preset's, or Otsu without one)");
+      "has contrast; default: the preset's, or Otsu without one; 'local' for an image input)");
   cmd->add_option("--normalise-intensity", args->normalise_intensity,
                   "Intensity for range (x (r / 10 m)^2) and angle of incidence before "
                   "thresholding: none|range|range-incidence (default: the preset's, else none; "

@@ -88,7 +88,8 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
   if (!args.quiet) {
     std::ostream& out = report_stream(is_stdout(args.json_path));
     out << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
-        << result.preprocessed.threshold << "\n"
+        << (options.preprocess.local_threshold ? "local (" : "") << result.preprocessed.threshold
+        << (options.preprocess.local_threshold ? " where flat)" : "") << "\n"
         << result.markers.size() << " marker(s)\n"
         << std::fixed << std::setprecision(1);
     for (const MarkerResult& m : result.markers) {

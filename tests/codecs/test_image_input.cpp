@@ -78,22 +78,25 @@ TEST(ImageInput, NotAnImageIsAOneLineError) {
 }
 
 // SOURCES.md: the real OS1-64 image holds tag36h11 ids 0 and 3 that its source project decodes,
-// and a third, coarser sheet. The local threshold finds all three and nothing else; Otsu's global
-// threshold over the whole room (176 of 255) keeps only id 0.
-TEST(ImageInput, RealOusterImageWithTheLocalThreshold) {
+// and a third, coarser sheet. The local threshold, the default for an image, finds all three and
+// nothing else; Otsu's global threshold over the whole room (176 of 255) keeps only id 0.
+TEST(ImageInput, RealOusterImageWithTheLocalThresholdByDefault) {
   const fs::path png =
       testing::real_data_dir() / "srrg2_ouster_intensity" / "ouster_intensity_0.png";
   if (!fs::exists(png)) GTEST_SKIP() << "no real data at " << png;
   const fs::path json = temp("ouster.json");
-  for (const std::string options : {"--threshold local", "--sensor os1-64 --threshold local"}) {
+  const auto ids_found = [&](const std::string& options) {
     const CliRun r =
         run_cli("detect " + png.string() + " " + options + " -q --json " + json.string());
-    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.status, 0) << r.err;
     std::set<int> ids;
     const nlohmann::json result = nlohmann::json::parse(slurp(json));
     for (const auto& m : result["markers"]) ids.insert(m["id"].get<int>());
-    EXPECT_EQ(ids, (std::set<int>{0, 1, 3})) << options;
-  }
+    return ids;
+  };
+  for (const std::string options : {"", "--sensor os1-64", "--threshold local"})
+    EXPECT_EQ(ids_found(options), (std::set<int>{0, 1, 3})) << options;
+  EXPECT_EQ(ids_found("--threshold otsu"), (std::set<int>{0}));
 }
 
 }  // namespace
