@@ -12,6 +12,7 @@
 #include "iilfm/frame_window.hpp"
 #include "iilfm/io/bag.hpp"
 #include "iilfm/io/frame_source.hpp"
+#include "iilfm/io/read_ahead.hpp"
 #include "iilfm/report.hpp"
 #include "iilfm/report_html.hpp"
 #include "progress_bar.hpp"
@@ -112,7 +113,9 @@ bool is_sequence_run(const SequenceArgs& args) {
 int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_options) {
   std::optional<Pipeline> pipeline;  // made from the first window (it may estimate resolution)
   std::string resolution_source;     // where the pipeline's resolution came from
-  const std::unique_ptr<io::FrameSource> source = io::open_frame_source(args.input, args.topic);
+  // Frames are read on a thread of their own while the one before is detected.
+  const std::unique_ptr<io::FrameSource> source =
+      io::read_ahead(io::open_frame_source(args.input, args.topic));
   LineFile jsonl(args.jsonl_path), tum(args.tum_path);
   std::optional<HtmlSequenceReport> html;
   if (!args.html_path.empty()) {
