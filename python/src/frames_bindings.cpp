@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "iilfm/error.hpp"
 #include "iilfm/io/frame_source.hpp"
+#include "iilfm/io/read_ahead.hpp"
 
 namespace iilfm::python {
 
@@ -54,13 +55,16 @@ void register_frames(py::module_& m) {
       "read_frames",
       [](const std::filesystem::path& input, const std::optional<std::string>& topic) {
         const std::string path = input.string();
-        return FrameReader(io::open_frame_source(path, topic.value_or("")));
+        // Read ahead on a thread of its own, as `iilfm detect` does: Pipeline.detect releases
+        // the GIL, so the next frames are decoded while one is detected.
+        return FrameReader(io::read_ahead(io::open_frame_source(path, topic.value_or(""))));
       },
       py::arg("path"), py::arg("topic") = py::none(),
       "Reads a recording frame by frame: a bag (ROS 1 .bag, ROS 2 folder or .db3, .mcap) with\n"
       "`topic`, or a folder of cloud files (in name order). Yields iilfm.Cloud objects with\n"
       "`stamp` (seconds: the message header stamp, or a numeric file name) and `path`\n"
-      "('rec.mcap:/points#12'); Pipeline.detect and detect_frames take them.\n"
+      "('rec.mcap:/points#12'); Pipeline.detect and detect_frames take them. The next two\n"
+      "frames are read ahead on a thread of their own while the caller works.\n"
       "Raises InputError (a ValueError) with the program's message for a missing file or topic,\n"
       "and, part-way, for damage: every frame before it has been yielded.");
 }
