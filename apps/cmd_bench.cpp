@@ -14,6 +14,7 @@
 #include "iilfm/error.hpp"
 #include "iilfm/eval/bench_scans.hpp"
 #include "iilfm/io/cloud_io.hpp"
+#include "opencv_threads.hpp"
 
 namespace iilfm::cli {
 
@@ -168,6 +169,7 @@ Runner register_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 64));
   cmd->add_flag("--markdown", args->markdown, "Print a Markdown table");
   return [args] {
+    use_opencv_threads(args->threads);
     std::vector<std::string> names = args->scans.empty() ? eval::bench_scan_names() : args->scans;
     for (const std::string& n : names) eval::require_bench_scan(n);
     std::vector<Row> rows;

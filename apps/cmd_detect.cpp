@@ -21,6 +21,7 @@
 #include "iilfm/report_html.hpp"
 #include "iilfm/resolution.hpp"
 #include "iilfm/sensor.hpp"
+#include "opencv_threads.hpp"
 #include "text_output.hpp"
 
 namespace iilfm::cli {
@@ -158,6 +159,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.decode_gray = !args.no_gray_decode;
   set_threads(options, args.threads);
+  use_opencv_threads(args.threads);
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;

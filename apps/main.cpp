@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "iilfm/error.hpp"
+#include "opencv_threads.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"iilfm: LiDAR fiducial markers through intensity images"};
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  iilfm::cli::use_opencv_threads(1);  // commands with --threads raise it
   try {
     for (auto& [sub, run] : commands) {
       if (sub->parsed()) return run();
