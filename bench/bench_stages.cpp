@@ -74,6 +74,7 @@ void BM_Pipeline(benchmark::State& state, const std::string& name) {
   const bench::Scan& s = scan(name);
   PipelineOptions options = s.options;
   set_threads(options, static_cast<int>(state.range(0)));
+  const bench::OpenCvThreads opencv(static_cast<int>(state.range(0)));
   Pipeline pipeline(options);
   for (auto _ : state) benchmark::DoNotOptimize(pipeline.process(s.scan.scan.cloud).markers.size());
   bench::report_points(state, s.scan.scan.cloud.size());
@@ -123,6 +124,7 @@ void BM_WindowPush(benchmark::State& state) {
   const int mode = static_cast<int>(state.range(0));
   PipelineOptions options = scan("mid40-60").options;
   if (mode == 3) set_threads(options, 2);
+  const bench::OpenCvThreads opencv(mode == 3 ? 2 : 1);
   FrameWindow window(frames.size());
   for (const PointCloud& f : frames) window.push(f, {});
   WindowProjector incremental(options.projection);

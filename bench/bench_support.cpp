@@ -1,6 +1,7 @@
 #include "bench_support.hpp"
 
 #include <map>
+#include <opencv2/core/utility.hpp>
 
 namespace iilfm::bench {
 
@@ -29,7 +30,13 @@ void report_points(benchmark::State& state, std::size_t points) {
                                                   benchmark::Counter::kIsRate);
 }
 
+OpenCvThreads::OpenCvThreads(int threads) { cv::setNumThreads(threads); }
+OpenCvThreads::~OpenCvThreads() { cv::setNumThreads(1); }
+
 int run(int argc, char** argv, void (*register_benchmarks)()) {
+  // As `iilfm` runs them without --threads (apps/opencv_threads.hpp); the benchmarks of two
+  // threads raise it (OpenCvThreads).
+  cv::setNumThreads(1);
   benchmark::Initialize(&argc, argv);
   register_benchmarks();
   benchmark::RunSpecifiedBenchmarks();
