@@ -124,15 +124,9 @@ cv::Matx33d unit_square_to_quad(const cv::Point2d q[4]) {
     g = (sx * dy2 - dx2 * sy) / det;
     h = (dx1 * sy - sx * dy1) / det;
   }
-  return {q[1].x - q[0].x + g * q[1].x,
-          q[3].x - q[0].x + h * q[3].x,
-          q[0].x,  //
-          q[1].y - q[0].y + g * q[1].y,
-          q[3].y - q[0].y + h * q[3].y,
-          q[0].y,  //
-          g,
-          h,
-          1};
+  const double a = q[1].x - q[0].x + g * q[1].x, b = q[3].x - q[0].x + h * q[3].x;
+  const double d = q[1].y - q[0].y + g * q[1].y, e = q[3].y - q[0].y + h * q[3].y;
+  return cv::Matx33d(a, b, q[0].x, d, e, q[0].y, g, h, 1);
 }
 
 // Maps the tangent plane to printed cells when the quad's top side moves by `top` and its bottom
@@ -262,27 +256,25 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
     scratch.sum[static_cast<std::size_t>(i)] = sum;
     scratch.count[static_cast<std::size_t>(i)] = count;
   }
-  // Too few sampled cells of a colour fail whatever the levels: counted before the medians, which
-  // cost most of a placing.
-  int black_cells = 0, white_cells = 0;
-  for (std::size_t i = 0; i < scratch.count.size(); ++i) {
-    if (scratch.count[i] == 0) continue;
-    (book.cell_role(static_cast<int>(i)) == CellCodeBook::kFixedWhite ? white_cells
-                                                                      : black_cells)++;
-  }
-  if (black_cells < options.min_fixed_cells || white_cells < options.min_fixed_cells) return -1;
+  if (scratch.black.empty() || scratch.white.empty()) return -1;
   const double black = median(scratch.black), white = median(scratch.white);
   const double contrast = white - black;
   if (!(contrast > 0)) return -1;
   const double threshold = black + 0.5 * contrast;
-  int fixed = 0, agreeing = 0;
-  for (std::size_t i = 0; i < scratch.count.size(); ++i) {
-    if (scratch.count[i] == 0) continue;
-    const bool is_white = book.cell_role(static_cast<int>(i)) == CellCodeBook::kFixedWhite;
-    ++fixed;
-    if ((scratch.sum[i] / scratch.count[i] > threshold) == is_white) ++agreeing;
+  int black_cells = 0, white_cells = 0, fixed = 0, agreeing = 0;
+  for (int row = 0; row < T; ++row) {
+    for (int col = 0; col < T; ++col) {
+      const std::size_t i = static_cast<std::size_t>(row) * T + col;
+      if (scratch.count[i] == 0) continue;
+      const bool is_white = book.cell_role(col, row) == CellCodeBook::kFixedWhite;
+      (is_white ? white_cells : black_cells)++;
+      ++fixed;
+      if ((scratch.sum[i] / scratch.count[i] > threshold) == is_white) ++agreeing;
+    }
   }
-  const bool ok = agreeing >= options.min_fixed_agreement * fixed;
+  const bool ok = black_cells >= options.min_fixed_cells &&
+                  white_cells >= options.min_fixed_cells &&
+                  agreeing >= options.min_fixed_agreement * fixed;
   return ok ? static_cast<double>(agreeing) / fixed : -1;
 }
 
