@@ -203,7 +203,7 @@ IILFM_AVX2_CLONES void cells_of_samples(const cv::Matx33d& H, double start, int 
     const double xc = std::min(std::max(0.0, x), width), yc = std::min(std::max(0.0, y), width);
     const auto col = static_cast<std::int32_t>(xc), row = static_cast<std::int32_t>(yc);
     const bool central = (std::abs(x - col - 0.5) <= half) & (std::abs(y - row - 0.5) <= half);
-    cell[i] = inside & central ? row * T + col : -1;
+    cell[i] = (inside & central) ? row * T + col : -1;
   }
 }
 
