@@ -22,8 +22,10 @@ from ._iilfm import (  # noqa: F401
     Pipeline,
     Pose,
     Result,
+    opencv_threads,
     read_cloud,
     read_frames,
+    set_opencv_threads,
     simulate,
 )
 
@@ -35,7 +37,9 @@ __all__ = [
     "Pipeline",
     "Pose",
     "Result",
+    "opencv_threads",
     "read_cloud",
     "read_frames",
+    "set_opencv_threads",
     "simulate",
 ]

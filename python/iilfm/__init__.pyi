@@ -1,8 +1,12 @@
 from ._iilfm import Cloud as Cloud
+from ._iilfm import FrameReader as FrameReader
 from ._iilfm import InputError as InputError
 from ._iilfm import Marker as Marker
 from ._iilfm import Pipeline as Pipeline
 from ._iilfm import Pose as Pose
 from ._iilfm import Result as Result
+from ._iilfm import opencv_threads as opencv_threads
 from ._iilfm import read_cloud as read_cloud
+from ._iilfm import read_frames as read_frames
+from ._iilfm import set_opencv_threads as set_opencv_threads
 from ._iilfm import simulate as simulate

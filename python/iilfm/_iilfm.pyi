@@ -187,6 +187,12 @@ def read_cloud(path: str | PathLike[str]) -> Cloud:
 def read_frames(path: str | PathLike[str], topic: str | None = None) -> FrameReader:
     """A bag's topic (.bag, ROS 2 folder or .db3, .mcap) or a folder of cloud files, frame by frame."""
 
+def set_opencv_threads(threads: int) -> None:
+    """Threads for OpenCV's own parallel loops in this process (`iilfm` sets its --threads)."""
+
+def opencv_threads() -> int:
+    """Threads OpenCV's parallel loops may use in this process."""
+
 def simulate(
     *,
     scene: str = "tag-wall",

@@ -1,4 +1,7 @@
 // The `iilfm` Python module (built as iilfm._iilfm; python/iilfm/__init__.py re-exports it).
+#include <opencv2/core/utility.hpp>
+#include <string>
+
 #include "bindings.hpp"
 #include "iilfm/error.hpp"
 
@@ -33,4 +36,21 @@ PYBIND11_MODULE(_iilfm, m) {
   iilfm::python::register_frames(m);
   iilfm::python::register_pipeline(m);
   iilfm::python::register_simulate(m);
+  m.def(
+      "set_opencv_threads",
+      [](int threads) {
+        if (threads < 1)
+          throw iilfm::InputError("set_opencv_threads: threads must be at least 1, got " +
+                                  std::to_string(threads));
+        cv::setNumThreads(threads);
+      },
+      py::arg("threads"),
+      "Threads for OpenCV's own parallel loops in this process (the detection's contour tracing,\n"
+      "ArUco's thresholds). The `iilfm` program sets it to its --threads (default 1): OpenCV's\n"
+      "pool otherwise wakes for every image of over ~100k pixels, and its workers spin on the\n"
+      "other cores (a fifth more CPU on a VLP-16 recording). Process-wide, so left to the caller;\n"
+      "it also sets cv2's count when cv2 uses the same OpenCV library.");
+  m.def(
+      "opencv_threads", [] { return cv::getNumThreads(); },
+      "Threads OpenCV's parallel loops may use in this process (see set_opencv_threads).");
 }

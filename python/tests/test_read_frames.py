@@ -73,3 +73,17 @@ def test_errors_are_the_programs(tmp_path):
         for _ in frames:
             seen += 1
     assert 0 < seen < 5
+
+
+def test_opencv_threads_are_the_callers_to_set():
+    before = iilfm.opencv_threads()
+    try:
+        iilfm.set_opencv_threads(1)
+        assert iilfm.opencv_threads() == 1
+        iilfm.set_opencv_threads(2)
+        assert iilfm.opencv_threads() == 2
+        with pytest.raises(iilfm.InputError, match="at least 1, got 0"):
+            iilfm.set_opencv_threads(0)
+        assert iilfm.opencv_threads() == 2
+    finally:
+        iilfm.set_opencv_threads(max(1, before))
