@@ -164,8 +164,10 @@ Runner register_bench_command(CLI::App& app) {
   for (const std::string& n : eval::bench_scan_names()) known += (known.empty() ? "" : ", ") + n;
   cmd->add_option("--scan", args->scans, "Scans to time (default: all of " + known + ")");
   cmd->add_option("--repeat", args->repeat, "Timed runs per scan")->check(CLI::Range(1, 100000));
-  cmd->add_option("--threads", args->threads,
-                  "threads for projecting and preprocessing large clouds and for lifting markers")
+  cmd->add_option(
+         "--threads", args->threads,
+         "threads for projecting and preprocessing large clouds, for lifting markers and for "
+         "OpenCV's own parallel loops (default 1)")
       ->check(CLI::Range(1, 64));
   cmd->add_flag("--markdown", args->markdown, "Print a Markdown table");
   return [args] {

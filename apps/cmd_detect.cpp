@@ -415,8 +415,10 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-gray-decode", args->no_gray_decode,
                 "AprilTag: segment and decode the binary image itself, not the gray pixels inside "
                 "its search regions");
-  cmd->add_option("--threads", args->threads,
-                  "threads for projecting and preprocessing large clouds and for lifting markers")
+  cmd->add_option(
+         "--threads", args->threads,
+         "threads for projecting and preprocessing large clouds, for lifting markers and for "
+         "OpenCV's own parallel loops (default 1)")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--aruco-refine", args->aruco_refine,
