@@ -159,7 +159,6 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.decode_gray = !args.no_gray_decode;
   set_threads(options, args.threads);
-  use_opencv_threads(args.threads);
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
   options.detector.aruco.window_min = args.aruco_window_min;
@@ -244,6 +243,7 @@ const FrameResult& process_or_explain(Pipeline& pipeline, const PointCloud& clou
 }
 
 int run_detect(const DetectArgs& args) {
+  use_opencv_threads(args.threads);  // process-wide: once here, not with each pipeline's options
   const bool result_on_stdout = stdout_claimed(
       {{"--json", args.json_path}, {"--jsonl", args.jsonl_path}, {"--tum", args.tum_path}},
       {{"--image", args.image_path}, {"--html", args.html_path}});
