@@ -12,6 +12,7 @@
 #include "cli_run.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "real_data.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm {
 namespace {
@@ -22,9 +23,7 @@ using testing::CliRun;
 using testing::run_cli;
 using testing::slurp;
 
-fs::path temp(const std::string& name) {
-  return fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
-}
+fs::path temp(const std::string& name) { return iilfm::testing::process_scratch_dir() / name; }
 
 // An Ouster-like image: a tag36h11 printed 6 px per cell on a mid-grey wall, 2:1 aspect cells
 // squashed vertically as a 0.35 x 0.7 deg sensor sees them.

@@ -13,6 +13,7 @@
 #include "cli_run.hpp"
 #include "iilfm/charuco_boards.hpp"
 #include "iilfm/detector.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm {
 namespace {
@@ -25,9 +26,7 @@ using testing::slurp;
 
 constexpr double kInch = 0.0254;
 
-fs::path temp(const std::string& name) {
-  return fs::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
-}
+fs::path temp(const std::string& name) { return iilfm::testing::process_scratch_dir() / name; }
 
 double mean_edge(const std::vector<Vec2>& c) {
   double sum = 0;

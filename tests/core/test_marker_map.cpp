@@ -5,12 +5,13 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/marker_map.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm {
 namespace {
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("iilfm_map_" + name + ".yaml");
+  const auto path = iilfm::testing::process_scratch_dir() / ("map_" + name + ".yaml");
   std::ofstream(path) << text;
   return path.string();
 }

@@ -1,11 +1,12 @@
 #include "cli_run.hpp"
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::testing {
 
@@ -18,14 +19,7 @@ std::string slurp(const fs::path& path) {
   return s.str();
 }
 
-fs::path cli_temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("iilfm_e2e_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
+fs::path cli_temp_dir() { return iilfm::testing::process_scratch_dir(); }
 
 int shell(const std::string& command) {
   const int raw = std::system(command.c_str());

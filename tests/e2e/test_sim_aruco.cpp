@@ -13,6 +13,7 @@
 #include "cli_run.hpp"
 #include "iilfm/eval/case.hpp"
 #include "iilfm/sensor.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::testing {
 namespace {
@@ -109,7 +110,7 @@ TEST(SimAruco, PaperGridFindsAll39MarkersWithBothFamilies) {
 }
 
 TEST(SimAruco, CliDetectsThePaperGridWithTwoMarkerFamilies) {
-  const fs::path d = fs::temp_directory_path() / ("iilfm_aruco_" + std::to_string(::getpid()));
+  const fs::path d = iilfm::testing::process_scratch_dir() / "aruco";
   fs::create_directories(d);
   const std::string pcd = (d / "grid.pcd").string(), map = (d / "grid.yaml").string(),
                     truth = (d / "truth.json").string(), json = (d / "out.json").string();

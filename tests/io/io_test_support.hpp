@@ -14,27 +14,13 @@
 #include <string>
 
 #include "iilfm/error.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::io::testing {
 
-class TempDir {
+class TempDir : public iilfm::testing::ScratchDir {
  public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "iilfm_io_XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    dir_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
-
- private:
-  std::filesystem::path dir_;
+  TempDir() : ScratchDir("iilfm_io") {}
 };
 
 inline void write_bytes(const std::string& path, const std::string& bytes) {

@@ -2,7 +2,6 @@
 // Runs the built program; skipped when the test runs without it.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,6 +10,7 @@
 
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/sim/sim.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::sim {
 namespace {
@@ -22,14 +22,7 @@ struct CliRun {
   std::string out, err;
 };
 
-fs::path temp_dir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("iilfm_sim_cli_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
+fs::path temp_dir() { return iilfm::testing::process_scratch_dir(); }
 
 std::string slurp(const fs::path& path) {
   std::ifstream in(path);

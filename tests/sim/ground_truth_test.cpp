@@ -9,14 +9,13 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/sim/sim.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::sim {
 namespace {
 
 std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() /
-          ("iilfm_sim_" + std::to_string(::getpid()) + "_" + name))
-      .string();
+  return (iilfm::testing::process_scratch_dir() / name).string();
 }
 
 GroundTruth tag_wall_truth(const SensorModel& sensor = mid40()) {

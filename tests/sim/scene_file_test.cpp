@@ -1,13 +1,13 @@
 // YAML scene files: the same scene as built in code, a write/read round trip, the shipped
 // examples, and one clear error per mistake.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "iilfm/error.hpp"
 #include "iilfm/sim/sim.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::sim {
 namespace {
@@ -81,8 +81,7 @@ TEST(SceneFile, HandWrittenYamlGivesTheSceneBuiltInCode) {
 }
 
 TEST(SceneFile, WriteThenReadGivesTheSameScene) {
-  const fs::path path =
-      fs::temp_directory_path() / ("iilfm_scene_" + std::to_string(::getpid()) + ".yaml");
+  const fs::path path = iilfm::testing::process_scratch_dir() / "scene.yaml";
   SceneSetup original = scene_in_code();
   // A tilted LiDAR and a marker at a general orientation exercise every rpy angle.
   original.T_world_lidar.linear() =
@@ -137,7 +136,7 @@ markers:
   EXPECT_EQ(s.scene.markers[0].family, "aruco:DICT_ARUCO_ORIGINAL");
   EXPECT_EQ(s.scene.markers[0].id, 1023);
   EXPECT_EQ(s.scene.markers[1].family, "aruco:DICT_APRILTAG_36h11");
-  const fs::path path = fs::temp_directory_path() / ("iilfm_aruco_" + std::to_string(::getpid()));
+  const fs::path path = iilfm::testing::process_scratch_dir() / "aruco_scene.yaml";
   write_scene_yaml(path.string(), s);
   expect_same_setup(read_scene_yaml(path.string()), s);
   fs::remove(path);

@@ -2,7 +2,6 @@
 // in its order, errors included, and never leaves its thread running. Run under ThreadSanitizer
 // by scripts/tsan.sh (CI).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -15,6 +14,7 @@
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/io/frame_source.hpp"
 #include "iilfm/io/read_ahead.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace iilfm::io {
 namespace {
@@ -113,8 +113,7 @@ TEST(ReadAhead, ReadsAtMostItsDepthAheadAndStopsWhenDestroyed) {
 
 // A folder of PCD files read ahead gives the frames the plain folder source gives.
 TEST(ReadAhead, AFolderGivesWhatItsPlainSourceGives) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("iilfm_read_ahead_" + std::to_string(::getpid()));
+  const std::filesystem::path dir = iilfm::testing::process_scratch_dir() / "read_ahead";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   for (int k = 0; k < 6; ++k) {
