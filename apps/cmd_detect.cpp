@@ -255,6 +255,10 @@ int run_detect(const DetectArgs& args) {
   if (is_image_input(args.input) && std::filesystem::is_regular_file(args.input)) {
     if (!args.html_path.empty())
       throw file_error(args.input, "--html needs a point cloud; an image gives --json and --image");
+    if (!args.jsonl_path.empty() || !args.tum_path.empty() || !args.topic.empty())
+      throw file_error(args.input,
+                       "--jsonl, --tum and --topic take a recording; an image gives --json and "
+                       "--image");
     if (!args.normalise_intensity.empty() && args.normalise_intensity != "none")
       throw file_error(args.input,
                        "--normalise-intensity needs a point cloud (an image has no range)");

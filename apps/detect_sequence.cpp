@@ -208,10 +208,10 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
   if (!args.quiet) {
     // Streamed, not through a fixed buffer: a long recording path is not cut.
     std::ostream& out = report_stream(is_stdout(args.jsonl_path) || is_stdout(args.tum_path));
-    out << counts.frames << " frames from " << source->name() << ": " << counts.results
-        << " result(s), markers in " << counts.with_markers << ", LiDAR pose in "
-        << counts.with_pose << "; " << std::fixed << std::setprecision(1)
-        << progress.rate(counts.frames) << " frames/s" << std::endl;
+    out << counts.frames << (counts.frames == 1 ? " frame from " : " frames from ")
+        << source->name() << ": " << counts.results << " result(s), markers in "
+        << counts.with_markers << ", LiDAR pose in " << counts.with_pose << "; " << std::fixed
+        << std::setprecision(1) << progress.rate(counts.frames) << " frames/s" << std::endl;
   }
   return 0;
 }

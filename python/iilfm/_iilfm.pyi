@@ -185,7 +185,8 @@ def read_cloud(path: str | PathLike[str]) -> Cloud:
     """Reads a .pcd or KITTI .bin file (NaN/Inf and zero points skipped, counted in stats)."""
 
 def read_frames(path: str | PathLike[str], topic: str | None = None) -> FrameReader:
-    """A bag's topic (.bag, ROS 2 folder or .db3, .mcap) or a folder of cloud files, frame by frame."""
+    """A bag's topic (.bag, ROS 2 folder or .db3, .mcap; default its only point cloud topic) or a
+    folder of cloud files, frame by frame."""
 
 def set_opencv_threads(threads: int) -> None:
     """Threads for OpenCV's own parallel loops in this process (`iilfm` sets its --threads)."""

@@ -61,7 +61,8 @@ void register_frames(py::module_& m) {
       },
       py::arg("path"), py::arg("topic") = py::none(),
       "Reads a recording frame by frame: a bag (ROS 1 .bag, ROS 2 folder or .db3, .mcap) with\n"
-      "`topic`, or a folder of cloud files (in name order). Yields iilfm.Cloud objects with\n"
+      "`topic` (default: its only point cloud topic), or a folder of cloud files (in name order). "
+      "Yields iilfm.Cloud objects with\n"
       "`stamp` (seconds: the message header stamp, or a numeric file name) and `path`\n"
       "('rec.mcap:/points#12'); Pipeline.detect and detect_frames take them. The next two\n"
       "frames are read ahead on a thread of their own while the caller works.\n"

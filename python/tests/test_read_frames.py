@@ -61,8 +61,11 @@ def test_errors_are_the_programs(tmp_path):
     assert str(missing_topic.value) == cli_error("detect", MCAP / "points_zstd.mcap", "--topic",
                                                  "/nothing")
     assert "no topic '/nothing'" in str(missing_topic.value)
-    with pytest.raises(iilfm.InputError, match="needs --topic"):
-        iilfm.read_frames(MCAP / "points_zstd.mcap")
+    # Without a topic, the file's only point cloud topic (it also holds /chatter).
+    only = iilfm.read_frames(MCAP / "points_zstd.mcap")
+    assert only.name.endswith("points_zstd.mcap:/points")
+    assert [f.path for f in only] == \
+        [f.path for f in iilfm.read_frames(MCAP / "points_zstd.mcap", "/points")]
     # A file cut in its data section: the frames before the cut, then the damage.
     whole = (MCAP / "points_zstd.mcap").read_bytes()
     cut = tmp_path / "cut.mcap"

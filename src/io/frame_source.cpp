@@ -54,10 +54,31 @@ class FolderFrames final : public FrameSource {
   std::size_t next_ = 0;
 };
 
+// One cloud file as a recording of one frame, so that --jsonl and --tum take a single scan too.
+class FileFrames final : public FrameSource {
+ public:
+  explicit FileFrames(const std::string& file) : name_(file) {}
+  bool next(Frame& frame) override {
+    if (done_) return false;
+    frame.loaded = read_cloud(name_);
+    frame.index = 0;
+    frame.source = name_;
+    if (!stamp_from_name(name_, frame.stamp_s)) frame.stamp_s = 0;
+    done_ = true;
+    return true;
+  }
+  std::size_t total() const override { return 1; }
+  const std::string& name() const override { return name_; }
+
+ private:
+  std::string name_;
+  bool done_ = false;
+};
+
 class BagFrames final : public FrameSource {
  public:
-  BagFrames(const std::string& path, const std::string& topic)
-      : bag_(open_bag(path)), topic_(topic), name_(path + ":" + topic) {
+  BagFrames(std::unique_ptr<BagReader> bag, const std::string& path, const std::string& topic)
+      : bag_(std::move(bag)), topic_(topic), name_(path + ":" + topic) {
     bag_->select(topic);
     for (const BagTopic& t : bag_->topics()) {
       if (t.name != topic) continue;
@@ -105,18 +126,29 @@ std::vector<std::string> cloud_files_in(const std::string& folder) {
 
 std::unique_ptr<FrameSource> open_frame_source(const std::string& input, const std::string& topic) {
   if (!fs::exists(input)) throw file_error(input, "no such file or folder");
-  if (!topic.empty()) return std::make_unique<BagFrames>(input, topic);
+  if (!topic.empty()) return std::make_unique<BagFrames>(open_bag(input), input, topic);
   if (is_bag_path(input)) {
-    std::string topics;
-    const std::unique_ptr<BagReader> bag = open_bag(input);
+    // A recording of one LiDAR has one point cloud topic: naming it would only be typing.
+    std::unique_ptr<BagReader> bag = open_bag(input);
+    std::vector<std::string> clouds;
     for (const BagTopic& t : bag->topics())
-      if (is_cloud_message_type(t.type)) topics += (topics.empty() ? "" : ", ") + t.name;
-    throw file_error(input, "a bag needs --topic (point cloud topics: " +
-                                (topics.empty() ? std::string("none") : topics) + ")");
+      if (is_cloud_message_type(t.type)) clouds.push_back(t.name);
+    if (clouds.size() == 1) return std::make_unique<BagFrames>(std::move(bag), input, clouds[0]);
+    if (clouds.empty()) {
+      std::string all;
+      for (const BagTopic& t : bag->topics())
+        all += (all.empty() ? "" : ", ") + t.name + " [" + t.type + "]";
+      throw file_error(input, "the bag has no point cloud topic (topics: " +
+                                  (all.empty() ? std::string("none") : all) + ")");
+    }
+    std::string names;
+    for (const std::string& name : clouds) names += (names.empty() ? "" : ", ") + name;
+    throw file_error(
+        input, "the bag has several point cloud topics: choose one with --topic (" + names + ")");
   }
-  if (!fs::is_directory(input))
-    throw file_error(input, "a sequence needs a folder of cloud files or a bag with --topic");
-  return std::make_unique<FolderFrames>(input);
+  if (fs::is_directory(input)) return std::make_unique<FolderFrames>(input);
+  if (is_cloud_file(input)) return std::make_unique<FileFrames>(input);
+  throw file_error(input, "not a recording: give a bag, a folder of cloud files or a cloud file");
 }
 
 }  // namespace iilfm::io

@@ -76,6 +76,24 @@ TEST(ImageInput, NotAnImageIsAOneLineError) {
   EXPECT_TRUE(r.out.empty());
 }
 
+// A recording's outputs would be silently missing for an image: refused, nothing written.
+TEST(ImageInput, RecordingOptionsAreRefusedForAnImage) {
+  const fs::path png = temp("plain.png");
+  ASSERT_TRUE(cv::imwrite(png.string(), cv::Mat(32, 64, CV_8U, cv::Scalar(90))));
+  const fs::path jsonl = temp("plain.jsonl");
+  for (const std::string option :
+       {"--jsonl " + jsonl.string(), std::string("--tum -"), std::string("--topic /points")}) {
+    const CliRun r = run_cli("detect " + png.string() + " " + option);
+    EXPECT_EQ(r.status, 2) << option;
+    EXPECT_EQ(r.err, "iilfm: " + png.string() +
+                         ": --jsonl, --tum and --topic take a recording; an image gives --json "
+                         "and --image\n")
+        << option;
+    EXPECT_TRUE(r.out.empty()) << option;
+  }
+  EXPECT_FALSE(fs::exists(jsonl));
+}
+
 // SOURCES.md: the real OS1-64 image holds tag36h11 ids 0 and 3 that its source project decodes,
 // and a third, coarser sheet. The local threshold, the default for an image, finds all three and
 // nothing else; Otsu's global threshold over the whole room (176 of 255) keeps only id 0.

@@ -211,11 +211,12 @@ TEST(Sequence, BagErrorsNameTheTopics) {
                                      "[sensor_msgs/PointCloud2])"),
             std::string::npos)
       << wrong.err;
-  const CliRun none = run_cli("detect " + rec.bag + " --sensor ultrapuck");
-  EXPECT_EQ(none.status, 2);
-  EXPECT_NE(none.err.find("needs --topic (point cloud topics: /velodyne_points)"),
+  // Without --topic the bag's only point cloud topic is read, and the summary names it.
+  const CliRun only = run_cli("detect " + rec.bag + " --sensor ultrapuck");
+  EXPECT_EQ(only.status, 0) << only.err;
+  EXPECT_NE(only.out.find("8 frames from " + rec.bag + ":/velodyne_points: 8 result(s)"),
             std::string::npos)
-      << none.err;
+      << only.out;
   const CliRun info = run_cli("bag info " + rec.bag);
   ASSERT_EQ(info.status, 0) << info.err;
   EXPECT_NE(info.out.find("/velodyne_points  sensor_msgs/PointCloud2        8 msgs"),
@@ -313,6 +314,43 @@ TEST(Sequence, FolderAsOneIntegratedCloudOrAsFrames) {
   EXPECT_EQ(both.status, 2);
   EXPECT_NE(both.err.find("take one cloud; a sequence writes --jsonl"), std::string::npos)
       << both.err;
+}
+
+// One cloud file is a recording of one frame: its line and trajectory pose are what --json gives
+// for it.
+TEST(Sequence, OneCloudFileIsARecordingOfOneFrame) {
+  const std::string scan = (cli_temp_dir() / "one_file.pcd").string();
+  const std::string map = (cli_temp_dir() / "one_file.yaml").string();
+  ASSERT_EQ(run_cli("sim --sensor ultrapuck --seed 1 --out " + scan + " --map " + map).status, 0);
+  const fs::path jsonl = cli_temp_dir() / "one_file.jsonl", tum = cli_temp_dir() / "one_file.txt",
+                 json_file = cli_temp_dir() / "one_file.json";
+  const std::string common = "detect " + scan + " --sensor ultrapuck --map " + map;
+  const CliRun as_frames =
+      run_cli(common + " --jsonl " + jsonl.string() + " --tum " + tum.string());
+  ASSERT_EQ(as_frames.status, 0) << as_frames.err;
+  EXPECT_NE(as_frames.out.find("1 frame from " + scan +
+                               ": 1 result(s), markers in 1, LiDAR pose "
+                               "in 1"),
+            std::string::npos)
+      << as_frames.out;
+  const CliRun as_one = run_cli(common + " --json " + json_file.string());
+  ASSERT_EQ(as_one.status, 0) << as_one.err;
+  const json single = json::parse(slurp(json_file));
+  const std::vector<json> lines = read_jsonl(jsonl);
+  ASSERT_EQ(lines.size(), 1u);
+  ASSERT_FALSE(single["pose"].is_null());
+  EXPECT_EQ(lines[0]["markers"].size(), single["markers"].size());
+  EXPECT_EQ(lines[0]["pose"]["xyz"], single["pose"]["xyz"]);
+  const std::vector<TumPose> trajectory = read_tum(tum);
+  ASSERT_EQ(trajectory.size(), 1u);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(trajectory[0].t[i], single["pose"]["xyz"][i].get<double>(), 1e-5);
+
+  const CliRun not_a_cloud = run_cli("detect " + map + " --jsonl " + jsonl.string());
+  EXPECT_EQ(not_a_cloud.status, 2);
+  EXPECT_EQ(not_a_cloud.err, "iilfm: " + map +
+                                 ": not a recording: give a bag, a folder of cloud files or a "
+                                 "cloud file\n");
 }
 
 }  // namespace

@@ -135,11 +135,12 @@ TEST(BagErrors, TopicThatIsNotAPointCloud) {
                      "std_msgs/String is not a point cloud");
 }
 
-TEST(BagErrors, BagWithoutTopicNamesTheCloudTopics) {
+TEST(BagErrors, BagWithSeveralCloudTopicsAndNoTopicNamesThem) {
   SKIP_WITHOUT_ROS_PYTHON();
   const std::string path = testing::test_bags_dir() + "/livox.bag";
   EXPECT_INPUT_ERROR(open_frame_source(path, ""), path,
-                     "needs --topic (point cloud topics: /livox/lidar, /livox2)");
+                     "the bag has several point cloud topics: choose one with --topic "
+                     "(/livox/lidar, /livox2)");
 }
 
 TEST(BagErrors, NotABag) {

@@ -331,6 +331,41 @@ TEST(McapDamage, ChunkDeclaringMoreBytesThanItsDataIsReportedNotAllocated) {
   expect_one_line_about(error, path, "chunk at byte " + std::to_string(chunks[0]));
 }
 
+TEST(McapBag, WithoutATopicItsOnlyPointCloudTopicIsRead) {
+  const std::string path = data_dir() + "/points_zstd.mcap";  // also holds /chatter
+  const std::unique_ptr<FrameSource> chosen = open_frame_source(path, "");
+  const std::unique_ptr<FrameSource> named = open_frame_source(path, "/points");
+  EXPECT_EQ(chosen->name(), path + ":/points");
+  EXPECT_EQ(chosen->total(), 5u);
+  Frame a, b;
+  std::size_t frames = 0;
+  while (named->next(b)) {
+    ASSERT_TRUE(chosen->next(a));
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(a.stamp_s, b.stamp_s);
+    ASSERT_EQ(a.loaded.cloud.size(), b.loaded.cloud.size());
+    for (std::size_t i = 0; i < a.loaded.cloud.size(); ++i)
+      EXPECT_EQ(a.loaded.cloud.x[i], b.loaded.cloud.x[i]);
+    ++frames;
+  }
+  EXPECT_FALSE(chosen->next(a));
+  EXPECT_EQ(frames, 5u);
+}
+
+TEST(McapBag, WithoutAPointCloudTopicTheErrorListsTheTopics) {
+  testing::TempDir out;
+  // The fixture's PointCloud2 schema renamed to a type of the same length that no decoder takes.
+  std::string bytes = fixture_bytes("points_unchunked.mcap");
+  const std::string cloud = "sensor_msgs/msg/PointCloud2", other = "sensor_msgs/msg/PointCloud9";
+  for (std::size_t at = bytes.find(cloud); at != std::string::npos; at = bytes.find(cloud, at + 1))
+    bytes.replace(at, cloud.size(), other);
+  const std::string path = out.file("no_clouds.mcap");
+  testing::write_bytes(path, bytes);
+  EXPECT_INPUT_ERROR(open_frame_source(path, ""), path,
+                     "the bag has no point cloud topic (topics: /chatter [std_msgs/msg/String], "
+                     "/points [sensor_msgs/msg/PointCloud9])");
+}
+
 TEST(McapDamage, ForeignFilesAndUnsupportedContent) {
   testing::TempDir out;
   const std::string not_mcap = out.file("cloud.mcap");

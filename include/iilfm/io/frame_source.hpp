@@ -32,10 +32,12 @@ class FrameSource {
 // The files read_cloud takes in `folder`, sorted by name.
 std::vector<std::string> cloud_files_in(const std::string& folder);
 
-// A folder of cloud files (every file a frame, in name order) or, with `topic`, a bag (see
-// open_bag). Stamps: a bag frame's message header stamp, or the record time when the header has
-// none; a file's name when it is a number (seconds, or nanoseconds when it is an integer of 16
-// digits or more, as ROS exporters name files), else the frame index.
+// A folder of cloud files (every file a frame, in name order), one cloud file (one frame) or a
+// bag (see open_bag): its `topic`, or when `topic` is empty its only point cloud topic (an
+// InputError names them when it has several). Stamps: a bag frame's message header stamp, or the
+// record time when the header has none; a file's name when it is a number (seconds, or
+// nanoseconds when it is an integer of 16 digits or more, as ROS exporters name files), else the
+// frame index.
 std::unique_ptr<FrameSource> open_frame_source(const std::string& input, const std::string& topic);
 
 }  // namespace iilfm::io
