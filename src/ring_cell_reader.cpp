@@ -337,24 +337,15 @@ MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
   return out;
 }
 
-CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,
-                       const CellReadOptions& options) {
+namespace {
+
+// The reading from each cell's sum and count of central samples and the fixed cells' samples:
+// black and white levels (medians), the threshold half-way, the fixed cells' agreement and the
+// data bits, with cells near the threshold as erasures.
+CellReading cells_from_sums(const std::vector<double>& sum, const std::vector<int>& count,
+                            std::vector<float>& black, std::vector<float>& white,
+                            const CellCodeBook& book, const CellReadOptions& options) {
   const int T = book.total_width();
-  std::vector<double> sum(static_cast<std::size_t>(T) * T, 0);
-  std::vector<int> count(sum.size(), 0);
-  std::vector<float> black, white;
-  const double half = 0.5 * options.central_fraction;
-  for (const MarkerSamples::Placed& p : placed) {
-    if (!(p.col >= 0 && p.row >= 0 && p.col < T && p.row < T)) continue;
-    const int col = static_cast<int>(p.col), row = static_cast<int>(p.row);
-    if (std::abs(p.col - col - 0.5) > half || std::abs(p.row - row - 0.5) > half) continue;
-    const std::size_t i = static_cast<std::size_t>(row) * T + col;
-    sum[i] += p.intensity;
-    ++count[i];
-    const int role = book.cell_role(col, row);
-    if (role == CellCodeBook::kFixedBlack) black.push_back(p.intensity);
-    if (role == CellCodeBook::kFixedWhite) white.push_back(p.intensity);
-  }
   CellReading out;
   if (black.empty() || white.empty()) return out;
   out.black = median(black);
@@ -384,6 +375,68 @@ CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const C
                   white_cells >= options.min_fixed_cells &&
                   out.fixed_agreeing >= options.min_fixed_agreement * out.fixed_cells;
   return out;
+}
+
+}  // namespace
+
+CellReading MarkerSamples::read(double shift_top, double shift_bottom, const CellCodeBook& book,
+                                const CellReadOptions& options, Scratch& scratch) const {
+  if (a_.empty()) return {};
+  const cv::Matx33d H =
+      shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
+                              static_cast<float>(shift_bottom * cell_height_), n_);
+  const int T = book.total_width();
+  scratch.sum.assign(static_cast<std::size_t>(T) * T, 0);
+  scratch.count.assign(scratch.sum.size(), 0);
+  scratch.black.clear();
+  scratch.white.clear();
+  scratch.cell.resize(a_.size());
+  cells_of_samples(H, start_, T, 0.5 * options.central_fraction, a_.data(), b_.data(), a_.size(),
+                   scratch.cell.data());
+  // As fixed_agreement, with the data cells' samples summed too.
+  const std::size_t n = a_.size();
+  for (std::size_t k = 0; k < n;) {
+    const std::int32_t i = scratch.cell[k];
+    if (i < 0) {
+      ++k;
+      continue;
+    }
+    const int role = book.cell_role(i);
+    std::vector<float>* level = role == CellCodeBook::kFixedBlack   ? &scratch.black
+                                : role == CellCodeBook::kFixedWhite ? &scratch.white
+                                                                    : nullptr;
+    double sum = scratch.sum[static_cast<std::size_t>(i)];
+    int count = scratch.count[static_cast<std::size_t>(i)];
+    for (; k < n && scratch.cell[k] == i; ++k) {
+      sum += intensity_[k];
+      ++count;
+      if (level) level->push_back(intensity_[k]);
+    }
+    scratch.sum[static_cast<std::size_t>(i)] = sum;
+    scratch.count[static_cast<std::size_t>(i)] = count;
+  }
+  return cells_from_sums(scratch.sum, scratch.count, scratch.black, scratch.white, book, options);
+}
+
+CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,
+                       const CellReadOptions& options) {
+  const int T = book.total_width();
+  std::vector<double> sum(static_cast<std::size_t>(T) * T, 0);
+  std::vector<int> count(sum.size(), 0);
+  std::vector<float> black, white;
+  const double half = 0.5 * options.central_fraction;
+  for (const MarkerSamples::Placed& p : placed) {
+    if (!(p.col >= 0 && p.row >= 0 && p.col < T && p.row < T)) continue;
+    const int col = static_cast<int>(p.col), row = static_cast<int>(p.row);
+    if (std::abs(p.col - col - 0.5) > half || std::abs(p.row - row - 0.5) > half) continue;
+    const std::size_t i = static_cast<std::size_t>(row) * T + col;
+    sum[i] += p.intensity;
+    ++count[i];
+    const int role = book.cell_role(col, row);
+    if (role == CellCodeBook::kFixedBlack) black.push_back(p.intensity);
+    if (role == CellCodeBook::kFixedWhite) white.push_back(p.intensity);
+  }
+  return cells_from_sums(sum, count, black, white, book, options);
 }
 
 }  // namespace iilfm::detail

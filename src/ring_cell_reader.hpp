@@ -15,6 +15,7 @@
 namespace iilfm::detail {
 
 struct CellReadOptions;
+struct CellReading;
 
 // The measured pixels around a marker, placed in its plane. The marker's image is modelled in the
 // tangent plane of the LiDAR's view sphere at the marker (a pinhole view, where a planar square
@@ -52,6 +53,11 @@ class MarkerSamples {
   };
   double fixed_agreement(double shift_top, double shift_bottom, const CellCodeBook& book,
                          const CellReadOptions& options, Scratch& scratch) const;
+
+  // read_cells(place(shift_top, shift_bottom)) with its buffers in `scratch` and the placing
+  // vectorised: the candidates' tied placings are each read whole.
+  CellReading read(double shift_top, double shift_bottom, const CellCodeBook& book,
+                   const CellReadOptions& options, Scratch& scratch) const;
 
   // The samples that can fall in the middle `central_fraction` of a fixed cell at some placing
   // that moves the whole square by a shift in [lowest, highest] cells (shift_top == shift_bottom),

@@ -75,8 +75,9 @@ class RingDecoder {
   // Decodes square candidates that no detector decoded: dark blobs with four straight sides in
   // `detect_gray` (the detectors' binary image, geometry `detect_geometry`), read from the ring
   // samples for every supported family. Appends detections in projected-image
-  // coordinates (decision_margin = the decoding's chance-match bits). Quads whose centre
-  // (projected-image coordinates) `known` says a detection already covers are not read.
+  // coordinates (decision_margin = the decoding's chance-match bits, less log2 of the families
+  // whose fixed cells fit the square: each is one more try). Quads whose centre (projected-image
+  // coordinates) `known` says a detection already covers are not read.
   void decode_candidates(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
                          const ProjectedImage& image, const cv::Mat& intensity,
                          std::vector<Detection>& out,

@@ -183,5 +183,44 @@ TEST(MarkerSamples, FixedCellSamplesGiveTheAgreementOfAllSamples) {
   EXPECT_GT(placings, 40) << "too few placings read: the test checks too little";
 }
 
+// The vectorised read of one placing, which the candidates' tied placings use, gives what
+// read_cells gives on place()'s samples: levels, fixed cells and bits, at independent top and
+// bottom shifts over dense and sparse rings and both central fractions.
+TEST(MarkerSamples, ReadGivesWhatReadCellsGivesOnThePlacedSamples) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  const RingScene dense(42, 1.0, 2.0, 90, 0.4, 0.0), sparse(7, 1.0, 3.5, 16, 2.0, 0.05);
+  int compared = 0, with_bits = 0;
+  for (const RingScene* scene : {&dense, &sparse}) {
+    const MarkerSamples samples(scene->corners, scene->image, scene->image.intensity, *book);
+    ASSERT_FALSE(samples.empty());
+    for (const double central : {0.6, 0.9}) {
+      CellReadOptions options;
+      options.central_fraction = central;
+      MarkerSamples::Scratch scratch;
+      std::vector<MarkerSamples::Placed> placed;
+      for (int t = 0; t < 8; ++t) {
+        for (int b = 0; b < 8; ++b) {
+          const double top = -0.6 + 0.3 * t, bottom = -1.5 + 0.3 * b;
+          samples.place(top, bottom, placed);
+          const CellReading expected = read_cells(placed, *book, options);
+          const CellReading got = samples.read(top, bottom, *book, options, scratch);
+          SCOPED_TRACE(::testing::Message() << "top " << top << " bottom " << bottom);
+          EXPECT_EQ(got.levels_ok, expected.levels_ok);
+          EXPECT_EQ(got.black, expected.black);
+          EXPECT_EQ(got.white, expected.white);
+          EXPECT_EQ(got.fixed_cells, expected.fixed_cells);
+          EXPECT_EQ(got.fixed_agreeing, expected.fixed_agreeing);
+          EXPECT_EQ(got.bits.known, expected.bits.known);
+          EXPECT_EQ(got.bits.white, expected.bits.white);
+          ++compared;
+          with_bits += expected.bits.known != 0 ? 1 : 0;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(compared, 2 * 2 * 8 * 8);
+  EXPECT_GT(with_bits, compared / 2) << "too few placings read bits: the test checks too little";
+}
+
 }  // namespace
 }  // namespace iilfm::detail
