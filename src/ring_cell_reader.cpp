@@ -219,10 +219,8 @@ IILFM_AVX2_CLONES void places_of_samples(const cv::Matx33d& H, double start,
 
 }  // namespace
 
-double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
-                                      const CellCodeBook& book, const CellReadOptions& options,
-                                      Scratch& scratch) const {
-  if (a_.empty()) return -1;
+void MarkerSamples::sum_cells(double shift_top, double shift_bottom, const CellCodeBook& book,
+                              double central_fraction, bool data_cells, Scratch& scratch) const {
   const cv::Matx33d H =
       shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
                               static_cast<float>(shift_bottom * cell_height_), n_);
@@ -231,9 +229,8 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
   scratch.count.assign(scratch.sum.size(), 0);
   scratch.black.clear();
   scratch.white.clear();
-  // As read_cells does with place()'s output, for the fixed cells only.
   scratch.cell.resize(a_.size());
-  cells_of_samples(H, start_, T, 0.5 * options.central_fraction, a_.data(), b_.data(), a_.size(),
+  cells_of_samples(H, start_, T, 0.5 * central_fraction, a_.data(), b_.data(), a_.size(),
                    scratch.cell.data());
   // Samples come row by row, so runs of them fall in one cell: a run's sum is kept in a register
   // (the same additions in order) rather than added through memory sample by sample.
@@ -241,22 +238,33 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
   for (std::size_t k = 0; k < n;) {
     const std::int32_t i = scratch.cell[k];
     const int role = i < 0 ? 0 : book.cell_role(i);
-    if (role >= 0) {  // off the print, off a cell's middle, or a data cell
+    if (i < 0 || (role >= 0 && !data_cells)) {  // off the print or a cell's middle; data cell
       ++k;
       continue;
     }
-    std::vector<float>& level = role == CellCodeBook::kFixedBlack ? scratch.black : scratch.white;
+    std::vector<float>* level = role == CellCodeBook::kFixedBlack   ? &scratch.black
+                                : role == CellCodeBook::kFixedWhite ? &scratch.white
+                                                                    : nullptr;
     double sum = scratch.sum[static_cast<std::size_t>(i)];
     int count = scratch.count[static_cast<std::size_t>(i)];
     for (; k < n && scratch.cell[k] == i; ++k) {
       sum += intensity_[k];
       ++count;
-      level.push_back(intensity_[k]);
+      if (level) level->push_back(intensity_[k]);
     }
     scratch.sum[static_cast<std::size_t>(i)] = sum;
     scratch.count[static_cast<std::size_t>(i)] = count;
   }
+}
+
+double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
+                                      const CellCodeBook& book, const CellReadOptions& options,
+                                      Scratch& scratch) const {
+  if (a_.empty()) return -1;
+  // As read_cells does with place()'s output, for the fixed cells only.
+  sum_cells(shift_top, shift_bottom, book, options.central_fraction, false, scratch);
   if (scratch.black.empty() || scratch.white.empty()) return -1;
+  const int T = book.total_width();
   const double black = median(scratch.black), white = median(scratch.white);
   const double contrast = white - black;
   if (!(contrast > 0)) return -1;
@@ -382,39 +390,7 @@ CellReading cells_from_sums(const std::vector<double>& sum, const std::vector<in
 CellReading MarkerSamples::read(double shift_top, double shift_bottom, const CellCodeBook& book,
                                 const CellReadOptions& options, Scratch& scratch) const {
   if (a_.empty()) return {};
-  const cv::Matx33d H =
-      shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
-                              static_cast<float>(shift_bottom * cell_height_), n_);
-  const int T = book.total_width();
-  scratch.sum.assign(static_cast<std::size_t>(T) * T, 0);
-  scratch.count.assign(scratch.sum.size(), 0);
-  scratch.black.clear();
-  scratch.white.clear();
-  scratch.cell.resize(a_.size());
-  cells_of_samples(H, start_, T, 0.5 * options.central_fraction, a_.data(), b_.data(), a_.size(),
-                   scratch.cell.data());
-  // As fixed_agreement, with the data cells' samples summed too.
-  const std::size_t n = a_.size();
-  for (std::size_t k = 0; k < n;) {
-    const std::int32_t i = scratch.cell[k];
-    if (i < 0) {
-      ++k;
-      continue;
-    }
-    const int role = book.cell_role(i);
-    std::vector<float>* level = role == CellCodeBook::kFixedBlack   ? &scratch.black
-                                : role == CellCodeBook::kFixedWhite ? &scratch.white
-                                                                    : nullptr;
-    double sum = scratch.sum[static_cast<std::size_t>(i)];
-    int count = scratch.count[static_cast<std::size_t>(i)];
-    for (; k < n && scratch.cell[k] == i; ++k) {
-      sum += intensity_[k];
-      ++count;
-      if (level) level->push_back(intensity_[k]);
-    }
-    scratch.sum[static_cast<std::size_t>(i)] = sum;
-    scratch.count[static_cast<std::size_t>(i)] = count;
-  }
+  sum_cells(shift_top, shift_bottom, book, options.central_fraction, true, scratch);
   return cells_from_sums(scratch.sum, scratch.count, scratch.black, scratch.white, book, options);
 }
 

@@ -70,6 +70,12 @@ class MarkerSamples {
                                    double central_fraction) const;
 
  private:
+  // Each cell's sum and count of the samples in its middle `central_fraction` at the placing, and
+  // the fixed cells' samples as black and white levels, into `scratch`; the data cells' only with
+  // `data_cells`.
+  void sum_cells(double shift_top, double shift_bottom, const CellCodeBook& book,
+                 double central_fraction, bool data_cells, Scratch& scratch) const;
+
   // Tangent-plane coordinates (b grows downwards in the image) and intensity of each sample, in
   // separate arrays so the per-placing mapping vectorises.
   std::vector<double> a_, b_;

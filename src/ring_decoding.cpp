@@ -108,6 +108,7 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
     if (r.decoded->accepted && std::make_pair(r.decoded->id, r.decoded->quarter_turns) == chosen &&
         (!strongest || r.decoded->security_bits > strongest->decoded->security_bits))
       strongest = &r;
+  if (!strongest) return;  // own > 0 above: not reached
   const DecodeResult paid =
       decode_cells(book, strongest->cells.bits, limits, static_cast<int>(decodings.size()));
   if (out.decoded.accepted && paid.security_bits <= out.decoded.security_bits) return;
