@@ -154,14 +154,17 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
       best.distance_to_next =
           std::min(best.distance_to_next, popcount((book.code(id, q) ^ chosen) & reading.known));
     }
-  // A random reading lands within `errors` of one of the 4 N candidates with probability
-  // hypotheses * 4 N * ball(known, errors) / 2^known.
-  best.security_bits = known - std::log2(4.0 * book.codes() * std::max(1, hypotheses)) -
-                       log2_ball(known, best.errors);
+  best.security_bits = chance_match_bits(book, known, best.errors, hypotheses);
   best.accepted = best.errors <= limits.max_errors &&
                   2 * best.errors + limits.min_distance_margin <= best.distance_to_next &&
                   best.security_bits >= limits.min_security_bits;
   return best;
+}
+
+double chance_match_bits(const CellCodeBook& book, int known, int errors, int hypotheses) {
+  // A random reading lands within `errors` of one of the 4 N candidates with probability
+  // hypotheses * 4 N * ball(known, errors) / 2^known.
+  return known - std::log2(4.0 * book.codes() * std::max(1, hypotheses)) - log2_ball(known, errors);
 }
 
 int errors_against(const CellCodeBook& book, const BitReading& reading, int id) {

@@ -78,6 +78,11 @@ struct DecodeResult {
 DecodeResult decode_cells(const CellCodeBook& book, const BitReading& reading,
                           const DecodeLimits& limits, int hypotheses = 1);
 
+// DecodeResult::security_bits of a reading with `known` bits matching a code but for `errors`:
+// -log2 of the chance that a random reading matches some code (any id and turn) that well, over
+// `hypotheses` readings tried.
+double chance_match_bits(const CellCodeBook& book, int known, int errors, int hypotheses = 1);
+
 // Known bits of `reading` that differ from code `id` read upright (rotation 0).
 int errors_against(const CellCodeBook& book, const BitReading& reading, int id);
 

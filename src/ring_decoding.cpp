@@ -67,9 +67,9 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
   // chance-match bits with no error at all; a hopeless one is not decoded (on a VLP-16 recording
   // of a 17 cm tag at 1 m, 68 ties with 21 distinct readings of at most 24 known bits, every
   // frame).
-  const double hypotheses_bits = std::log2(static_cast<double>(decodings.size()));
+  const int hypotheses = static_cast<int>(decodings.size());
   if (!out.decoded.accepted &&
-      most_known - std::log2(4.0 * book.codes()) - hypotheses_bits < min_security_bits)
+      chance_match_bits(book, most_known, 0, hypotheses) < min_security_bits)
     return;
   for (auto& [bits, decoded] : decodings)
     decoded = decode_cells(book, BitReading{bits.first, bits.second}, limits);
@@ -109,8 +109,7 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
         (!strongest || r.decoded->security_bits > strongest->decoded->security_bits))
       strongest = &r;
   if (!strongest) return;  // own > 0 above: not reached
-  const DecodeResult paid =
-      decode_cells(book, strongest->cells.bits, limits, static_cast<int>(decodings.size()));
+  const DecodeResult paid = decode_cells(book, strongest->cells.bits, limits, hypotheses);
   if (out.decoded.accepted && paid.security_bits <= out.decoded.security_bits) return;
   out.cells = strongest->cells;
   out.shift_top = strongest->placing.first;
