@@ -17,11 +17,15 @@ std::string printable(std::string_view text) {
   return out;
 }
 
-std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics) {
+std::string topics_with_types(const std::vector<BagTopic>& topics) {
   std::string known;
   for (const BagTopic& t : topics)
     known += (known.empty() ? "" : ", ") + t.name + " [" + t.type + "]";
-  return "no topic '" + topic + "' (topics: " + (known.empty() ? "none" : known) + ")";
+  return known.empty() ? "none" : known;
+}
+
+std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics) {
+  return "no topic '" + topic + "' (topics: " + topics_with_types(topics) + ")";
 }
 
 InputError no_topic_error(const std::string& path, const std::string& topic,

@@ -6,6 +6,7 @@
 
 #include "iilfm/error.hpp"
 #include "iilfm/io/bag.hpp"
+#include "ros_bags.hpp"
 
 namespace iilfm::io {
 namespace {
@@ -134,13 +135,9 @@ std::unique_ptr<FrameSource> open_frame_source(const std::string& input, const s
     for (const BagTopic& t : bag->topics())
       if (is_cloud_message_type(t.type)) clouds.push_back(t.name);
     if (clouds.size() == 1) return std::make_unique<BagFrames>(std::move(bag), input, clouds[0]);
-    if (clouds.empty()) {
-      std::string all;
-      for (const BagTopic& t : bag->topics())
-        all += (all.empty() ? "" : ", ") + t.name + " [" + t.type + "]";
+    if (clouds.empty())
       throw file_error(input, "the bag has no point cloud topic (topics: " +
-                                  (all.empty() ? std::string("none") : all) + ")");
-    }
+                                  topics_with_types(bag->topics()) + ")");
     std::string names;
     for (const std::string& name : clouds) names += (names.empty() ? "" : ", ") + name;
     throw file_error(

@@ -36,6 +36,9 @@ Ros2Storage ros2_storage(const std::string& folder);
 // name cannot break a one-line message or the terminal.
 std::string printable(std::string_view text);
 
+// "/a [type], /b [type]", or "none"
+std::string topics_with_types(const std::vector<BagTopic>& topics);
+
 // "no topic '/x' (topics: /a [type], /b [type])"
 std::string missing_topic_problem(const std::string& topic, const std::vector<BagTopic>& topics);
 
