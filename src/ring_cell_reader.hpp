@@ -35,7 +35,8 @@ class MarkerSamples {
   // Where each sample lies on the print when the black square's top side is moved by `shift_top`
   // and its bottom side by `shift_bottom` cell heights along the image's vertical (down
   // positive): column and row of the printed image in cells (the black square spans [start,
-  // start + border_width]).
+  // start + border_width]). With read_cells, the plain statement of a reading: the pipeline
+  // reads through fixed_agreement and read, which the tests check against these two.
   struct Placed {
     double col, row;
     float intensity;
@@ -106,7 +107,8 @@ struct CellReading {
 };
 
 // Reads the cells from placed samples: black and white levels from the fixed cells (the marker's
-// own, no global threshold), then each data cell from the mean of its central samples.
+// own, no global threshold), then each data cell from the mean of its central samples. The
+// reference MarkerSamples::read is tested against; the pipeline calls read.
 CellReading read_cells(const std::vector<MarkerSamples::Placed>& placed, const CellCodeBook& book,
                        const CellReadOptions& options);
 
