@@ -20,6 +20,10 @@ struct SearchRegionRules {
   int min_side_px = 8;     // a boundary must span this many pixels one way (the smallest quad)
   double max_aspect = 16;  // and be at most this much longer than wide
   int max_vertices = 12;   // its polygon, simplified to a few pixels, has at most this many
+  // or, ragged, its convex hull simplifies to at most this many and it encloses at least this
+  // share of the hull's area
+  int max_hull_vertices = 6;
+  double min_hull_fill = 0.5;
   // Above this share of the image, search the whole of it: on busy real scans (Pandar64, regions
   // over 45 %) the split ran no faster than one whole-image call.
   double max_coverage = 0.35;

@@ -107,6 +107,30 @@ TEST(SearchRegions, CoverTheTagsAndLeaveTheFloorAndTheSliverOut) {
   }
 }
 
+// A far marker on a Livox image: its black square's outline notched by holes and blurred cells, so
+// the outline simplifies to far more than 12 corners; its convex hull is still a quad.
+TEST(SearchRegions, ARaggedSquareIsSearchedThroughItsHull) {
+  cv::Mat image(120, 240, CV_8U, cv::Scalar(255));
+  const cv::Rect square_box(60, 40, 34, 34);
+  image(square_box).setTo(0);
+  cv::RNG rng(11);
+  for (int k = 2; k < 30; k += 4) {  // notches 2-7 pixels deep into every side
+    const int depth = rng.uniform(2, 8), at = square_box.x + k;
+    image(cv::Rect(at, square_box.y, 2, depth)).setTo(255);
+    image(cv::Rect(at, square_box.br().y - depth, 2, depth)).setTo(255);
+    image(cv::Rect(square_box.x, square_box.y + k, depth, 2)).setTo(255);
+    image(cv::Rect(square_box.br().x - depth, square_box.y + k, depth, 2)).setTo(255);
+  }
+  const auto covered = [&](const std::vector<cv::Rect>& regions) {
+    return std::any_of(regions.begin(), regions.end(),
+                       [&](const cv::Rect& r) { return (r & square_box) == square_box; });
+  };
+  EXPECT_TRUE(covered(search_regions(image, SearchRegionRules{})));
+  SearchRegionRules outline_only;
+  outline_only.max_hull_vertices = 0;
+  EXPECT_FALSE(covered(search_regions(image, outline_only)));  // what the hull rule adds
+}
+
 TEST(SearchRegions, ABusyImageIsSearchedWhole) {
   cv::Mat image(200, 200, CV_8U);
   cv::RNG rng(7);
