@@ -176,12 +176,19 @@ IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask,
   }
 }
 
-// Intensity that maps to gray 255: the 99th percentile of observed values, so a few
-// retro-reflectors do not darken everything else. A grid of at most about 16k pixels (every 4th
-// pixel of every 2nd row, sparser on large images) is plenty for a percentile of a display scale
-// (its rank within 0.2 % at two standard errors) and keeps the selection off the frame's critical
-// path: 74k values of a Mid-40 image took 0.4 ms.
-double robust_max(const cv::Mat& intensity, const cv::Mat& mask) {
+// Gray 255 is this many times the 99th percentile of observed intensity. A marker is a small
+// part of most images and its white paper is among the brightest surfaces in them: at the
+// percentile itself the paper was clipped to 255 wherever walls filled the other 99 %, which
+// biased the white reference of AprilTag's gray decoding (docs/detectors.md) and lost far markers
+// (docs/sensors.md, "Detection range": the Avia's 40 cm tag went from 10 to 18 m with 2).
+constexpr double kGrayHeadroom = 2.0;
+
+// The 99th percentile of observed values, so a few retro-reflectors do not darken everything
+// else. A grid of at most about 16k pixels (every 4th pixel of every 2nd row, sparser on large
+// images) is plenty for a percentile of a display scale (its rank within 0.2 % at two standard
+// errors) and keeps the selection off the frame's critical path: 74k values of a Mid-40 image took
+// 0.4 ms.
+double percentile_99(const cv::Mat& intensity, const cv::Mat& mask) {
   constexpr double kMaxSampled = 16384;
   thread_local std::vector<float> values;  // reused: no allocation once warm
   values.reserve(static_cast<std::size_t>(intensity.total() / 8 + 1));
@@ -250,7 +257,7 @@ double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask,
 // 255 where brighter than the valid pixels' mean around it; where the window is nearly flat (a
 // wall, the sky), where brighter than the global threshold.
 cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double global_threshold,
-                         double scale, const PreprocessOptions& options) {
+                         double percentile_99, const PreprocessOptions& options) {
   const int w = std::max(3, options.local_window | 1);
   cv::Mat weight, values, squares, sum, sum_sq, count;
   valid.convertTo(weight, CV_32F, 1.0 / 255.0);
@@ -265,7 +272,7 @@ cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double glo
   cv::divide(sum, count, mean);
   cv::divide(sum_sq, count, mean_sq);
   cv::subtract(mean_sq, mean.mul(mean), variance);
-  const double min_spread = options.local_min_contrast * scale;
+  const double min_spread = options.local_min_contrast * percentile_99;
   cv::Mat contrasted = variance > static_cast<float>(min_spread * min_spread);
   cv::Mat local = filled > mean, global = filled > global_threshold;
   cv::Mat above;
@@ -391,7 +398,8 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   // A header onto the last pass's mask, not a copy: nothing writes that buffer again before the
   // next frame, which rewrites `out` whole anyway (a copy cost 0.02 ms on a Mid-40 image).
   out.valid = filled_mask;
-  out.intensity_scale = robust_max(*source, image.mask);
+  const double percentile = percentile_99(*source, image.mask);
+  out.intensity_scale = kGrayHeadroom * percentile;
   out.gray.create(filled.size(), CV_8U);
   const auto gray_rows = [&](int first_row, int end_row) {
     to_gray(filled, filled_mask, out.repeats_row_above, out.intensity_scale,
@@ -419,8 +427,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   if (!options.binarize) {
     out.gray.copyTo(out.detect);
   } else if (options.local_threshold) {
-    const cv::Mat above =
-        above_local_mean(filled, filled_mask, out.threshold, out.intensity_scale, options);
+    const cv::Mat above = above_local_mean(filled, filled_mask, out.threshold, percentile, options);
     out.detect.create(filled.size(), CV_8U);
     out.detect.setTo(0);
     out.detect.setTo(255, above & filled_mask);

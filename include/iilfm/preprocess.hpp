@@ -22,8 +22,9 @@ struct PreprocessOptions {
   std::optional<double> threshold;
   // Local threshold (`--threshold local`): a pixel is white when brighter than the mean of the
   // local_window x local_window pixels around it, wherever that window's intensity spread (standard
-  // deviation) exceeds local_min_contrast of the gray scale; flat regions keep the global
-  // threshold above. One threshold then serves markers lit or printed differently across a scene.
+  // deviation) exceeds local_min_contrast of the 99th percentile of observed intensity; flat
+  // regions keep the global threshold above. One threshold then serves markers lit or printed
+  // differently across a scene.
   bool local_threshold = false;
   int local_window = 15;
   double local_min_contrast = 0.1;
@@ -59,11 +60,13 @@ struct HoleClassBuffers {
 // their own: detections are in `geometry`'s coordinates (map_pixel converts them).
 struct PreprocessedImage {
   ImageGeometry geometry;
-  cv::Mat gray;                // CV_8U intensity scaled to 0..255 (for display), holes filled
-  cv::Mat detect;              // CV_8U image handed to the detectors (binary unless binarize=false)
-  cv::Mat valid;               // CV_8U 255 where observed or filled, 0 where still unobserved
-  double threshold = 0;        // threshold applied, in intensity units
-  double intensity_scale = 0;  // intensity mapped to gray 255
+  cv::Mat gray;          // CV_8U intensity scaled to 0..255 (display, gray decoding), holes filled
+  cv::Mat detect;        // CV_8U image handed to the detectors (binary unless binarize=false)
+  cv::Mat valid;         // CV_8U 255 where observed or filled, 0 where still unobserved
+  double threshold = 0;  // threshold applied, in intensity units
+  // Intensity mapped to gray 255: twice the 99th percentile of the observed intensity, so white
+  // paper is not clipped where walls fill most of the image.
+  double intensity_scale = 0;
 
   // Working buffers (hole filling, square pixels), kept so that frame after frame of one size
   // allocates nothing.

@@ -38,7 +38,7 @@ TEST(Preprocess, NaiveThresholdBinarisesAndFillsHolesFromNeighbours) {
   EXPECT_EQ(out.detect.at<uchar>(3, 16), 255);
   EXPECT_EQ(out.detect.at<uchar>(5, 4), 0);      // hole in black stays black
   EXPECT_EQ(out.detect.at<uchar>(12, 15), 255);  // hole in white is white
-  EXPECT_EQ(out.gray.at<uchar>(3, 16), 255);     // 99th percentile maps to 255
+  EXPECT_EQ(out.gray.at<uchar>(3, 16), 128);     // the 99th percentile maps to half of 255
 }
 
 // A dim checkerboard (black 5, white 30: far, or dark paper) beside a bright wall (120): the global
@@ -269,12 +269,33 @@ TEST(Preprocess, GrayModeKeepsLevels) {
   opt.binarize = false;
   PreprocessedImage out;
   preprocess(two_tone(), opt, out);
-  EXPECT_NEAR(out.detect.at<uchar>(3, 3), 10 * 255 / 120, 1);
+  EXPECT_NEAR(out.detect.at<uchar>(3, 3), 10 * 255 / 240, 1);  // 255 at twice the percentile
 }
 
-// The gray scale is the 99th percentile of a sample of the image's own pixels, whatever came
-// before: a large bright image (sampled sparsely, 16k of its 1.2 million pixels), then the small
-// two-tone one (every pixel), then the large one again.
+// A wall filling the image (60) with a small marker on it (black 5, white paper 90, 0.5 % of the
+// pixels each): the paper keeps its own gray level above the wall's. With the percentile itself
+// as 255, the wall was the percentile and paper and wall were both 255.
+TEST(Preprocess, WhitePaperBrighterThanTheWallIsNotClipped) {
+  ProjectedImage img;
+  img.intensity = cv::Mat(100, 200, CV_32F, cv::Scalar(60));
+  img.intensity(cv::Rect(10, 10, 10, 10)).setTo(90);
+  img.intensity(cv::Rect(20, 10, 10, 10)).setTo(5);
+  img.mask = cv::Mat(100, 200, CV_8U, cv::Scalar(255));
+  img.range = cv::Mat(100, 200, CV_32F, cv::Scalar(5));
+  PreprocessOptions opt;
+  opt.threshold = 40;
+  PreprocessedImage out;
+  preprocess(img, opt, out);
+  const int wall = out.gray.at<uchar>(50, 100), paper = out.gray.at<uchar>(15, 15);
+  const int black = out.gray.at<uchar>(15, 25);
+  EXPECT_LT(paper, 255);
+  EXPECT_GT(paper, wall + 30);
+  EXPECT_LT(black, 15);
+}
+
+// The gray scale is twice the 99th percentile of a sample of the image's own pixels, whatever
+// came before: a large bright image (sampled sparsely, 16k of its 1.2 million pixels), then the
+// small two-tone one (every pixel), then the large one again.
 TEST(Preprocess, IntensityScaleComesFromTheImageAlone) {
   ProjectedImage large;
   large.intensity = cv::Mat(1100, 1100, CV_32F, cv::Scalar(400));
@@ -284,11 +305,11 @@ TEST(Preprocess, IntensityScaleComesFromTheImageAlone) {
   opt.threshold = 60;
   PreprocessedImage out;
   preprocess(large, opt, out);
-  EXPECT_NEAR(out.intensity_scale, 400, 1e-3);
+  EXPECT_NEAR(out.intensity_scale, 800, 1e-3);
   preprocess(two_tone(), opt, out);
-  EXPECT_NEAR(out.intensity_scale, 120, 1e-3);
+  EXPECT_NEAR(out.intensity_scale, 240, 1e-3);
   preprocess(large, opt, out);
-  EXPECT_NEAR(out.intensity_scale, 400, 1e-3);
+  EXPECT_NEAR(out.intensity_scale, 800, 1e-3);
 }
 
 // Otsu's threshold over every observed pixel of `gray`, in gray levels (t + 0.5 for the split
