@@ -77,6 +77,12 @@ class AprilTagDetector final : public MarkerDetector {
     // the tiles' footprint (docs/detectors.md).
     use_regions_ = options.search_regions && options.decimate <= 1 && options.sigma == 0;
     decode_gray_ = options.decode_gray;
+    // -1 where even an exact reading is too likely by chance (tag16h5: 1.8e-3 a quad).
+    gray_max_hamming_ = -1;
+    while (gray_max_hamming_ < bits &&
+           chance_match(family_->ncodes, static_cast<int>(family_->nbits), gray_max_hamming_ + 1) <=
+               kMaxChanceMatch)
+      ++gray_max_hamming_;
     rules_.reach = decode_reach(*family_);
     rules_.min_side_px = std::max(3, family_->width_at_border - 1);
   }
@@ -105,30 +111,36 @@ class AprilTagDetector final : public MarkerDetector {
       detect(binary, out);
       return;
     }
-    detect_in_search_regions(binary, use_regions_, rules_, crop_,
-                             [&](const cv::Mat& part, cv::Point origin) {
-                               const std::size_t before = out.size();
-                               detect_in(part, origin, out);
-                               const cv::Rect box(origin, part.size());
-                               // Binary first, because gray alone lost sharp markers 1.7 pixels a
-                               // cell wide that the binary image decodes (ULTRA Puck, tag grid
-                               // at 3.5 m). An image searched whole is a cluttered one (or not
-                               // binary): there libapriltag's own threshold on the gray pixels of a
-                               // busy real scan decoded texture into a code (a tag16h5 sliver on a
-                               // Pandar64 scan) where the binary image gives none.
-                               if (out.size() > before || box.size() == binary.size()) return;
-                               // Not where under a fifth of the pixels hold a value (a single
-                               // rosette frame, 5-10 %): the gray crop is then mostly its holes'
-                               // binary classes, and trying it took `mid40-1` detection from 0.8
-                               // to 1.6 ms. (An Avia's 1 m tag at 35 m, which the gray pixels
-                               // decode, has values in 26-32 % of its region.)
-                               if (cv::countNonZero(images.valid(box)) * 5 < box.area()) return;
-                               // The gray pixels, those without a value keeping their binary class
-                               // (a hole in a white wall stays white, not the gray image's black).
-                               images.gray(box).copyTo(gray_crop_);
-                               binary(box).copyTo(gray_crop_, images.valid(box) == 0);
-                               detect_in(gray_crop_, origin, out);
-                             });
+    detect_in_search_regions(
+        binary, use_regions_, rules_, crop_, [&](const cv::Mat& part, cv::Point origin) {
+          const std::size_t before = out.size();
+          detect_in(part, origin, out);
+          const cv::Rect box(origin, part.size());
+          // Binary first, because gray alone lost sharp markers 1.7 pixels a cell wide that the
+          // binary image decodes (ULTRA Puck, tag grid at 3.5 m). An image searched whole is a
+          // cluttered one (or not binary): there libapriltag's own threshold on the gray pixels of
+          // a busy real scan decoded texture into a code (a tag16h5 sliver on a Pandar64 scan)
+          // where the binary image gives none.
+          if (out.size() > before || box.size() == binary.size()) return;
+          // Not where under a fifth of the pixels hold a value (a single rosette frame, 5-10 %):
+          // the gray crop is then mostly its holes' binary classes, and trying it took `mid40-1`
+          // detection from 0.8 to 1.6 ms. (An Avia's 1 m tag at 35 m, which the gray pixels decode,
+          // has values in 26-32 % of its region.)
+          if (cv::countNonZero(images.valid(box)) * 5 < box.area()) return;
+          // The gray pixels, those without a value keeping their binary class (a hole in a white
+          // wall stays white, not the gray image's black).
+          images.gray(box).copyTo(gray_crop_);
+          binary(box).copyTo(gray_crop_, images.valid(box) == 0);
+          detect_in(gray_crop_, origin, out);
+          // A second try on a quad the binary pixels could not read keeps only readings unlikely by
+          // chance (kMaxChanceMatch), whatever the family corrects: with the gray pixels unclipped,
+          // a 17 cm DICT_ARUCO_ORIGINAL marker at 10 m from an Avia (1.4 pixels a cell) read as
+          // tag16h5 id 15 without error (chance 1.8e-3).
+          const auto by_chance = [&](const Detection& d) { return d.hamming > gray_max_hamming_; };
+          out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(before), out.end(),
+                                   by_chance),
+                    out.end());
+        });
   }
 
  private:
@@ -165,6 +177,7 @@ class AprilTagDetector final : public MarkerDetector {
   apriltag_detector_t* detector_ = nullptr;
   bool use_regions_ = false;
   bool decode_gray_ = true;
+  int gray_max_hamming_ = 0;  // errors a reading of the gray pixels may have
   SearchRegionRules rules_;
   cv::Mat crop_;       // a search region's pixels, reused from call to call
   cv::Mat gray_crop_;  // its gray pixels, when the binary ones decoded nothing
@@ -179,16 +192,17 @@ int default_max_hamming(int family_min_distance, std::uint32_t family_codes, int
   int bits = std::clamp((family_min_distance - 1) / 2 - 2, 0, cap);
   // Measured: tag25h9 correcting 2 bits (chance 1.4e-3 a quad) decoded a marker in 1 of 100
   // marker-free room scans, 1 bit (1.1e-4) in none, and both found the same markers to 10 m.
-  const auto chance = [&](int corrected) {
-    double words = 0, choose = 1;  // words within `corrected` bits of a code
-    for (int k = 0; k <= corrected; ++k) {
-      words += choose;
-      choose = choose * (family_bits - k) / (k + 1);
-    }
-    return 4.0 * family_codes * words / std::ldexp(1.0, family_bits);
-  };
-  while (bits > 0 && chance(bits) > kMaxChanceMatch) --bits;
+  while (bits > 0 && chance_match(family_codes, family_bits, bits) > kMaxChanceMatch) --bits;
   return bits;
+}
+
+double chance_match(std::uint32_t family_codes, int family_bits, int corrected) {
+  double words = 0, choose = 1;  // words within `corrected` bits of a code
+  for (int k = 0; k <= corrected; ++k) {
+    words += choose;
+    choose = choose * (family_bits - k) / (k + 1);
+  }
+  return 4.0 * family_codes * words / std::ldexp(1.0, family_bits);
 }
 
 std::unique_ptr<MarkerDetector> make_apriltag_detector(const std::string& tag_family,

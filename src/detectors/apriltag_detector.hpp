@@ -19,6 +19,10 @@ std::unique_ptr<MarkerDetector> make_apriltag_detector(const std::string& tag_fa
 constexpr double kMaxChanceMatch = 2e-4;
 int default_max_hamming(int family_min_distance, std::uint32_t family_codes, int family_bits);
 
+// The chance that a random quad decodes to one of `family_codes` codes of `family_bits` bits
+// (any of 4 turns) with at most `corrected` bits wrong.
+double chance_match(std::uint32_t family_codes, int family_bits, int corrected);
+
 FamilyLayout apriltag_layout(const std::string& tag_family);
 
 }  // namespace iilfm::detail

@@ -63,5 +63,28 @@ TEST(GrayDecode, ReadsSmallOusterMarkersTheBinaryImageLoses) {
 #endif
 }
 
+// A weak family is not read from gray pixels: tag16h5 (30 codes of 16 bits) matches a random quad
+// exactly once in 550, so its readings of a region whose binary pixels decoded nothing are
+// dropped. Without that, a grid of 17 cm DICT_ARUCO_ORIGINAL markers at 10 m from an Avia (1.4
+// pixels a cell) read as tag16h5 id 15, without error, where the scene holds no tag16h5.
+TEST(GrayDecode, AWeakFamilyIsNotReadFromGrayPixels) {
+  eval::CaseSpec spec;
+  spec.scene = "grid";
+  spec.sensor = "avia";
+  spec.scene_params.family = "aruco:DICT_ARUCO_ORIGINAL";
+  spec.scene_params.distance_m = 10;
+  spec.physics.footprint = true;
+  spec.lidar_rpy_deg = Vec3(0, -0.6, -1.5);
+  const eval::SimulatedCase c = eval::simulate_case(spec, 1);
+  PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+  options.families = {"apriltag:tag16h5"};
+  Pipeline pipeline(options);
+  EXPECT_EQ(pipeline.process(c.scan.cloud).markers.size(), 0u);
+  // The same scan, with tag16h5 read as a binary image only, as before gray decoding: none either.
+  options.detector.apriltag.decode_gray = false;
+  Pipeline binary_only(options);
+  EXPECT_EQ(binary_only.process(c.scan.cloud).markers.size(), 0u);
+}
+
 }  // namespace
 }  // namespace iilfm::testing
