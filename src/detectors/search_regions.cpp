@@ -34,7 +34,7 @@ cv::Rect widened(const cv::Rect& box, int margin, const cv::Size& size) {
 // Could this boundary be a marker's border? Its box spans the smallest quad, is not a sliver, does
 // not touch the image edge, and the boundary simplifies to a few corners (a smooth skyline or a
 // staircase of ring steps does not). A ragged one passes when its convex hull simplifies to at
-// most six corners and the boundary encloses at least half of the hull: a far marker on a Livox
+// most five corners and the boundary encloses at least half of the hull: a far marker on a Livox
 // image, its border notched by holes and blurred cells, simplified to 15-20 corners and was never
 // searched (Mid-40, 30 cm tag36h11 at 10 m: found in 4 of 10 scans, 10 with the hull), while a
 // ragged floor edge or skyline still fails (touching the edge, or a sliver, or not filling its
