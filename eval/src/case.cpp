@@ -64,12 +64,25 @@ MarkerMap map_of(const sim::Scene& scene) {
   return map;
 }
 
-CaseSpec tag_wall_spec(const std::string& sensor, double distance_m, double marker_size_m) {
+namespace {
+CaseSpec scene_spec(const char* scene, const std::string& sensor, double distance_m) {
   CaseSpec spec;
-  spec.scene = "tag-wall";
+  spec.scene = scene;
   spec.sensor = sensor;
   spec.scene_params.distance_m = distance_m;
+  return spec;
+}
+}  // namespace
+
+CaseSpec tag_wall_spec(const std::string& sensor, double distance_m, double marker_size_m) {
+  CaseSpec spec = scene_spec("tag-wall", sensor, distance_m);
   spec.scene_params.marker_size_m = marker_size_m;
+  return spec;
+}
+
+CaseSpec grid_spec(const std::string& sensor, const std::string& family, double distance_m) {
+  CaseSpec spec = scene_spec("grid", sensor, distance_m);
+  spec.scene_params.family = family;
   return spec;
 }
 

@@ -14,13 +14,19 @@
 namespace iilfm {
 namespace {
 
+// `rows` x `cols` pixels, every one observed, of one intensity and range.
+ProjectedImage uniform_image(int rows, int cols, float intensity, float range) {
+  ProjectedImage img;
+  img.intensity = cv::Mat(rows, cols, CV_32F, cv::Scalar(intensity));
+  img.mask = cv::Mat(rows, cols, CV_8U, cv::Scalar(255));
+  img.range = cv::Mat(rows, cols, CV_32F, cv::Scalar(range));
+  return img;
+}
+
 // A 20x20 image: left half intensity 10 (black print), right half 120 (white), one hole in each.
 ProjectedImage two_tone() {
-  ProjectedImage img;
-  img.intensity = cv::Mat(20, 20, CV_32F, cv::Scalar(10));
+  ProjectedImage img = uniform_image(20, 20, 10, 2);
   img.intensity.colRange(10, 20).setTo(120);
-  img.mask = cv::Mat(20, 20, CV_8U, cv::Scalar(255));
-  img.range = cv::Mat(20, 20, CV_32F, cv::Scalar(2));
   for (auto [r, c] : {std::pair{5, 4}, std::pair{12, 15}}) {
     img.intensity.at<float>(r, c) = 0;
     img.mask.at<uchar>(r, c) = 0;
@@ -276,12 +282,9 @@ TEST(Preprocess, GrayModeKeepsLevels) {
 // pixels each): the paper keeps its own gray level above the wall's. With the percentile itself
 // as 255, the wall was the percentile and paper and wall were both 255.
 TEST(Preprocess, WhitePaperBrighterThanTheWallIsNotClipped) {
-  ProjectedImage img;
-  img.intensity = cv::Mat(100, 200, CV_32F, cv::Scalar(60));
+  ProjectedImage img = uniform_image(100, 200, 60, 5);
   img.intensity(cv::Rect(10, 10, 10, 10)).setTo(90);
   img.intensity(cv::Rect(20, 10, 10, 10)).setTo(5);
-  img.mask = cv::Mat(100, 200, CV_8U, cv::Scalar(255));
-  img.range = cv::Mat(100, 200, CV_32F, cv::Scalar(5));
   PreprocessOptions opt;
   opt.threshold = 40;
   PreprocessedImage out;
@@ -297,10 +300,7 @@ TEST(Preprocess, WhitePaperBrighterThanTheWallIsNotClipped) {
 // came before: a large bright image (sampled sparsely, 16k of its 1.2 million pixels), then the
 // small two-tone one (every pixel), then the large one again.
 TEST(Preprocess, IntensityScaleComesFromTheImageAlone) {
-  ProjectedImage large;
-  large.intensity = cv::Mat(1100, 1100, CV_32F, cv::Scalar(400));
-  large.mask = cv::Mat(1100, 1100, CV_8U, cv::Scalar(255));
-  large.range = cv::Mat(1100, 1100, CV_32F, cv::Scalar(2));
+  const ProjectedImage large = uniform_image(1100, 1100, 400, 2);
   PreprocessOptions opt;
   opt.threshold = 60;
   PreprocessedImage out;

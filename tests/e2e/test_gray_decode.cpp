@@ -68,11 +68,7 @@ TEST(GrayDecode, ReadsSmallOusterMarkersTheBinaryImageLoses) {
 // dropped. Without that, a grid of 17 cm DICT_ARUCO_ORIGINAL markers at 10 m from an Avia (1.4
 // pixels a cell) read as tag16h5 id 15, without error, where the scene holds no tag16h5.
 TEST(GrayDecode, AWeakFamilyIsNotReadFromGrayPixels) {
-  eval::CaseSpec spec;
-  spec.scene = "grid";
-  spec.sensor = "avia";
-  spec.scene_params.family = "aruco:DICT_ARUCO_ORIGINAL";
-  spec.scene_params.distance_m = 10;
+  eval::CaseSpec spec = eval::grid_spec("avia", "aruco:DICT_ARUCO_ORIGINAL", 10);
   spec.physics.footprint = true;
   spec.lidar_rpy_deg = Vec3(0, -0.6, -1.5);
   const eval::SimulatedCase c = eval::simulate_case(spec, 1);

@@ -202,12 +202,8 @@ TEST(RingDecoding, OtherFamiliesSquaresAreNotDecoded) {
 // is the 12 chance-match bits a single family's candidate needs, until each family whose fixed
 // cells fit the square counted as one more try.
 TEST(RingDecoding, EachFamilyAskedForIsAnotherChanceForACandidate) {
-  eval::CaseSpec spec;
-  spec.scene = "grid";
-  spec.sensor = "ultrapuck";
-  spec.scene_params.family = "aruco:DICT_4X4_50";
-  spec.scene_params.distance_m = 4.0;
-  const eval::SimulatedCase c = eval::simulate_case(spec, 2);
+  const eval::SimulatedCase c =
+      eval::simulate_case(eval::grid_spec("ultrapuck", "aruco:DICT_4X4_50", 4.0), 2);
   PipelineOptions options = eval::range_pipeline_options(c, eval::RangeSettings::kIilfm);
   options.families = {"apriltag:tag36h11",         "apriltag:tag25h9",  "apriltag:tag16h5",
                       "aruco:DICT_ARUCO_ORIGINAL", "aruco:DICT_4X4_50", "aruco:DICT_5X5_100",

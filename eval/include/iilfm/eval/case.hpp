@@ -36,6 +36,9 @@ struct SimulatedCase {
 
 // The "tag-wall" scene: one marker of `marker_size_m` facing `sensor` from `distance_m`.
 CaseSpec tag_wall_spec(const std::string& sensor, double distance_m, double marker_size_m);
+// The "grid" scene: 7 x 5 markers of `family` (e.g. "aruco:DICT_4X4_50") `distance_m` from
+// `sensor`.
+CaseSpec grid_spec(const std::string& sensor, const std::string& family, double distance_m);
 
 SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed);
 
