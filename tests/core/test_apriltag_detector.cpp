@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "../../src/detectors/apriltag_detector.hpp"
@@ -117,6 +118,18 @@ TEST(AprilTagDetector, DefaultCorrectionKeepsChanceMatchesRare) {
   EXPECT_EQ(default_max_hamming(9, 35, 25), 1);      // tag25h9: 1.4e-3 at 2 bits, 1.1e-4 at 1
   EXPECT_EQ(default_max_hamming(7, 38, 21), 0);      // tagCircle21h7: 1.6e-3 at 1 bit
   EXPECT_EQ(default_max_hamming(5, 30, 16), 0);      // tag16h5
+}
+
+// The chance bound that also decides which readings of gray pixels are kept (docs/detectors.md):
+// tag16h5 is above it even read without error, so its gray readings never are.
+TEST(AprilTagDetector, ChanceMatchOfTheWeakAndStrongFamilies) {
+  using detail::chance_match;
+  EXPECT_NEAR(chance_match(30, 16, 0), 4.0 * 30 / 65536, 1e-12);  // tag16h5: 1.8e-3
+  EXPECT_GT(chance_match(30, 16, 0), detail::kMaxChanceMatch);
+  EXPECT_NEAR(chance_match(587, 36, 2), 4.0 * 587 * (1 + 36 + 630) / std::ldexp(1.0, 36), 1e-12);
+  EXPECT_LT(chance_match(587, 36, 2), detail::kMaxChanceMatch);  // tag36h11: 2.3e-5
+  EXPECT_GT(chance_match(35, 25, 2), detail::kMaxChanceMatch);   // tag25h9: 1.4e-3 at 2 bits
+  EXPECT_LT(chance_match(35, 25, 1), detail::kMaxChanceMatch);   // and 1.1e-4 at 1
 }
 
 // The decoding table is shared by every detector of its (family, bits) and outlives them: a tag
