@@ -161,10 +161,14 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
   return best;
 }
 
-double chance_match_bits(const CellCodeBook& book, int known, int errors, int hypotheses) {
+double chance_match_bits(double codes, int known, int errors, int hypotheses) {
   // A random reading lands within `errors` of one of the 4 N candidates with probability
   // hypotheses * 4 N * ball(known, errors) / 2^known.
-  return known - std::log2(4.0 * book.codes() * std::max(1, hypotheses)) - log2_ball(known, errors);
+  return known - std::log2(4.0 * codes * std::max(1, hypotheses)) - log2_ball(known, errors);
+}
+
+double chance_match_bits(const CellCodeBook& book, int known, int errors, int hypotheses) {
+  return chance_match_bits(book.codes(), known, errors, hypotheses);
 }
 
 int errors_against(const CellCodeBook& book, const BitReading& reading, int id) {

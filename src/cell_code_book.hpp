@@ -82,6 +82,8 @@ DecodeResult decode_cells(const CellCodeBook& book, const BitReading& reading,
 // -log2 of the chance that a random reading matches some code (any id and turn) that well, over
 // `hypotheses` readings tried.
 double chance_match_bits(const CellCodeBook& book, int known, int errors, int hypotheses = 1);
+// The same for any family of `codes` codes (AprilTag's bound on corrected bits uses it too).
+double chance_match_bits(double codes, int known, int errors, int hypotheses = 1);
 
 // Known bits of `reading` that differ from code `id` read upright (rotation 0).
 int errors_against(const CellCodeBook& book, const BitReading& reading, int id);

@@ -3,10 +3,12 @@
 #include <apriltag/apriltag.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <utility>
 
+#include "../cell_code_book.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/error.hpp"
 #include "search_regions.hpp"
@@ -78,11 +80,7 @@ class AprilTagDetector final : public MarkerDetector {
     use_regions_ = options.search_regions && options.decimate <= 1 && options.sigma == 0;
     decode_gray_ = options.decode_gray;
     // -1 where even an exact reading is too likely by chance (tag16h5: 1.8e-3 a quad).
-    gray_max_hamming_ = -1;
-    while (gray_max_hamming_ < bits &&
-           chance_match(family_->ncodes, static_cast<int>(family_->nbits), gray_max_hamming_ + 1) <=
-               kMaxChanceMatch)
-      ++gray_max_hamming_;
+    gray_max_hamming_ = bits_within_chance(family_->ncodes, static_cast<int>(family_->nbits), bits);
     rules_.reach = decode_reach(*family_);
     rules_.min_side_px = std::max(3, family_->width_at_border - 1);
   }
@@ -189,20 +187,20 @@ int default_max_hamming(int family_min_distance, std::uint32_t family_codes, int
   // Correcting 2 bits in families of tens of thousands of codes builds a lookup table that takes
   // seconds and hundreds of MB at start-up; 1 bit keeps them instant.
   const int cap = family_codes > 5000 ? 1 : 2;
-  int bits = std::clamp((family_min_distance - 1) / 2 - 2, 0, cap);
+  const int bits = std::clamp((family_min_distance - 1) / 2 - 2, 0, cap);
   // Measured: tag25h9 correcting 2 bits (chance 1.4e-3 a quad) decoded a marker in 1 of 100
   // marker-free room scans, 1 bit (1.1e-4) in none, and both found the same markers to 10 m.
-  while (bits > 0 && chance_match(family_codes, family_bits, bits) > kMaxChanceMatch) --bits;
+  return std::max(0, bits_within_chance(family_codes, family_bits, bits));
+}
+
+int bits_within_chance(std::uint32_t family_codes, int family_bits, int most) {
+  int bits = most;
+  while (bits >= 0 && chance_match(family_codes, family_bits, bits) > kMaxChanceMatch) --bits;
   return bits;
 }
 
 double chance_match(std::uint32_t family_codes, int family_bits, int corrected) {
-  double words = 0, choose = 1;  // words within `corrected` bits of a code
-  for (int k = 0; k <= corrected; ++k) {
-    words += choose;
-    choose = choose * (family_bits - k) / (k + 1);
-  }
-  return 4.0 * family_codes * words / std::ldexp(1.0, family_bits);
+  return std::exp2(-chance_match_bits(family_codes, family_bits, corrected));
 }
 
 std::unique_ptr<MarkerDetector> make_apriltag_detector(const std::string& tag_family,

@@ -23,6 +23,11 @@ int default_max_hamming(int family_min_distance, std::uint32_t family_codes, int
 // (any of 4 turns) with at most `corrected` bits wrong.
 double chance_match(std::uint32_t family_codes, int family_bits, int corrected);
 
+// The most bits up to `most` whose correction keeps chance_match within kMaxChanceMatch; -1 when
+// even an exact reading is more likely (tag16h5). default_max_hamming's bound, and the errors a
+// reading of gray pixels may have.
+int bits_within_chance(std::uint32_t family_codes, int family_bits, int most);
+
 FamilyLayout apriltag_layout(const std::string& tag_family);
 
 }  // namespace iilfm::detail
