@@ -51,12 +51,9 @@ TEST(Preprocess, NaiveThresholdBinarisesAndFillsHolesFromNeighbours) {
 // threshold 40 makes the whole board black; the local one keeps its cells and leaves the flat
 // wall to the global threshold.
 TEST(Preprocess, LocalThresholdKeepsADimPatternAndLeavesFlatRegionsGlobal) {
-  ProjectedImage img;
-  img.intensity = cv::Mat(40, 80, CV_32F, cv::Scalar(120));
+  ProjectedImage img = uniform_image(40, 80, 120, 2);
   for (int r = 0; r < 40; ++r)
     for (int c = 0; c < 40; ++c) img.intensity.at<float>(r, c) = ((r / 5 + c / 5) % 2) ? 30 : 5;
-  img.mask = cv::Mat(40, 80, CV_8U, cv::Scalar(255));
-  img.range = cv::Mat(40, 80, CV_32F, cv::Scalar(2));
   PreprocessOptions opt;
   opt.threshold = 40;
   PreprocessedImage global, local;
