@@ -4,11 +4,10 @@
 #include <bitset>
 #include <cmath>
 #include <map>
-#include <opencv2/imgproc.hpp>
 #include <tuple>
 #include <utility>
 
-#include "banded_contours.hpp"
+#include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
 #include "iilfm/square_pixels.hpp"
 
@@ -268,77 +267,6 @@ namespace {
 // missing where no ring crossed it (quiet_zone_fraction, detectors/aruco_detector.hpp).
 constexpr double kMinCandidateMargin = 0.5;
 
-// Outlines of dark blobs that are nearly quadrilaterals, in `binary` (0 = black): the black
-// square of a marker whose code no detector could read is still one blob with four straight sides.
-// Each side is a line fitted to its contour points; corners are the lines' intersections,
-// clockwise in the image (top-left-most first is not needed: the decoder finds the turn).
-std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px) {
-  // Traced on the rows where `binary` changes (banded_contours.hpp), thresholded there only:
-  // uniform rows are uniform in `dark` too. The blobs spanning the width that this leaves out
-  // would fail the box test below anyway.
-  const cv::Rect band = changing_band(binary);
-  if (band.empty()) return {};
-  thread_local cv::Mat dark;
-  cv::compare(binary(band), 128, dark, cv::CMP_LT);
-  std::vector<std::vector<cv::Point>> contours;
-  contours_in_band(dark, band, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, contours);
-  std::vector<std::array<Vec2, 4>> quads;
-  for (const std::vector<cv::Point>& contour : contours) {
-    if (contour.size() < 4 * min_side_px) continue;
-    const cv::Rect box = cv::boundingRect(contour);
-    if (box.width < min_side_px || box.height < min_side_px || box.width > binary.cols / 4 ||
-        box.height > binary.rows * 3 / 4)
-      continue;
-    // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
-    std::vector<cv::Point> hull, poly;
-    cv::convexHull(contour, hull);
-    cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
-    if (poly.size() != 4 || !cv::isContourConvex(poly)) continue;
-    if (cv::contourArea(hull) < 0.9 * cv::contourArea(poly) ||
-        cv::contourArea(contour) < 0.5 * cv::contourArea(hull))
-      continue;
-    // Contour points between consecutive vertices (ends trimmed: staircase corners) per side.
-    std::array<cv::Vec4f, 4> lines;
-    bool ok = true;
-    for (int k = 0; k < 4 && ok; ++k) {
-      const cv::Point2f a = poly[k], b = poly[(k + 1) % 4];
-      const cv::Point2f dir = b - a;
-      const float len = static_cast<float>(cv::norm(dir));
-      std::vector<cv::Point2f> side;
-      for (const cv::Point& p : contour) {
-        const cv::Point2f d = cv::Point2f(p) - a;
-        const float along = (d.x * dir.x + d.y * dir.y) / len;
-        const float across = std::abs(d.x * dir.y - d.y * dir.x) / len;
-        if (along > 0.15f * len && along < 0.85f * len && across < 0.1f * len + 1.5f)
-          side.push_back(p);
-      }
-      ok = side.size() >= 3;
-      if (ok) cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
-    }
-    if (!ok) continue;
-    std::array<Vec2, 4> quad;
-    for (int k = 0; k < 4 && ok; ++k) {
-      // Corner k + 1 is where side k meets side k + 1.
-      const cv::Vec4f& l1 = lines[k];
-      const cv::Vec4f& l2 = lines[(k + 1) % 4];
-      const double det = l1[0] * -l2[1] - l1[1] * -l2[0];
-      if (std::abs(det) < 1e-6) {
-        ok = false;
-        break;
-      }
-      const double dx = l2[2] - l1[2], dy = l2[3] - l1[3];
-      const double t = (dx * -l2[1] - dy * -l2[0]) / det;
-      quad[(k + 1) % 4] = Vec2(l1[2] + t * l1[0], l1[3] + t * l1[1]);
-    }
-    // Clockwise on the screen (y down), the corner order of square markers.
-    const double turn = (quad[1] - quad[0]).x() * (quad[2] - quad[1]).y() -
-                        (quad[1] - quad[0]).y() * (quad[2] - quad[1]).x();
-    if (turn < 0) std::swap(quad[1], quad[3]);
-    if (ok) quads.push_back(quad);
-  }
-  return quads;
-}
-
 }  // namespace
 
 void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
@@ -350,7 +278,7 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   int min_cells = 1 << 30;
   for (const auto& entry : books_) min_cells = std::min(min_cells, entry.second->border_width());
   const std::size_t before = out.size();
-  for (const std::array<Vec2, 4>& quad : dark_quads(detect_gray, 2.0 * min_cells)) {
+  for (const std::array<Vec2, 4>& quad : dark_quads(detect_gray, 2.0 * min_cells, min_cells)) {
     std::vector<Vec2> corners(quad.begin(), quad.end());
     push_edges_outward(corners);  // the sides run through the outermost pixel centres
     std::array<Vec2, 4> projected;

@@ -29,8 +29,9 @@ TEST(DetectionRange, RingRowsFindAMarkerThePaperSettingsMissOnTheUltraPuck) {
       << table;
 }
 
-// On the VLP-16 the limit is geometric: a tag36h11 needs a ring per cell row, and both settings
-// see the same rings. The walk must still find the 40 cm tag up close and lose it by 2 m.
+// On the VLP-16 the limit is geometric: a tag36h11 needs about a ring per cell row, and both
+// settings see the same rings. The walk must still find the 40 cm tag up close and lose it by 2 m,
+// where 5.7 rings cross its 8 cell rows and only a few placements leave enough cells read.
 TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   RangeQuery query;
   query.sensor = "vlp16";
@@ -41,7 +42,9 @@ TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   ASSERT_EQ(r.size(), 1u);
   EXPECT_EQ(r[0].max_distance_m, 1.0);
   ASSERT_EQ(r[0].found.size(), 3u);
-  EXPECT_EQ(r[0].found[1].second, 0);  // 2 m: 5.7 rings over the 8 cells
+  // Measured: 2 of 10 at 2 m since the ring candidates join a square cut in two (0 before).
+  EXPECT_LE(r[0].found[1].second, 3);
+  EXPECT_EQ(r[0].false_positives, 0);
 }
 
 }  // namespace

@@ -1,0 +1,170 @@
+#include "dark_quads.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "banded_contours.hpp"
+
+namespace iilfm::detail {
+
+namespace {
+
+struct DarkBlob {
+  const std::vector<cv::Point>* contour;
+  cv::Rect box;
+  double area;
+};
+
+// Of two parts tried as one square, the smaller must have at least this share of the larger's
+// area.
+constexpr double kSmallestPartShare = 0.2;
+
+bool box_may_hold_square(const cv::Rect& box, double min_side_px, const cv::Size& image) {
+  return box.width >= min_side_px && box.height >= min_side_px && box.width <= image.width / 4 &&
+         box.height <= image.height * 3 / 4;
+}
+
+// The quadrilateral of a dark outline: `points` (one blob's contour, or two blobs' together), of
+// `dark_area` pixels within a box `box`.
+std::optional<std::array<Vec2, 4>> quad_of_outline(const std::vector<cv::Point>& points,
+                                                   double dark_area, const cv::Rect& box,
+                                                   double min_side_px, const cv::Size& image) {
+  if (static_cast<double>(points.size()) < 4 * min_side_px) return std::nullopt;
+  if (!box_may_hold_square(box, min_side_px, image)) return std::nullopt;
+  // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
+  std::vector<cv::Point> hull, poly;
+  cv::convexHull(points, hull);
+  cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
+  if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
+  if (cv::contourArea(hull) < 0.9 * cv::contourArea(poly) ||
+      dark_area < 0.5 * cv::contourArea(hull))
+    return std::nullopt;
+  // Per side, the outermost outline point at each step along it, between its vertices (ends
+  // trimmed: staircase corners), and of those the ones within a pixel and a half of the side's
+  // outer envelope (the upper quartile of the steps): white data cells next to a border row no
+  // ring crossed notch the outline, and their points would pull the side inwards.
+  constexpr float kEnvelopeDepth = 1.5f;
+  cv::Point2f centre(0, 0);
+  for (const cv::Point& p : poly) centre += cv::Point2f(p) * 0.25f;
+  std::array<cv::Vec4f, 4> lines;
+  std::vector<cv::Point2f> side;
+  std::vector<float> outermost, found;
+  for (int k = 0; k < 4; ++k) {
+    const cv::Point2f a = poly[k], b = poly[(k + 1) % 4];
+    const cv::Point2f dir = b - a;
+    const float len = static_cast<float>(cv::norm(dir));
+    // Distance outwards from the side: positive on the side away from the centre.
+    const float outwards = (centre - a).cross(dir) > 0 ? -1.0f : 1.0f;
+    const int steps = static_cast<int>(len) + 1;
+    side.assign(static_cast<std::size_t>(steps), cv::Point2f(0, 0));
+    outermost.assign(static_cast<std::size_t>(steps), -1e9f);
+    for (const cv::Point& p : points) {
+      const cv::Point2f d = cv::Point2f(p) - a;
+      const float along = (d.x * dir.x + d.y * dir.y) / len;
+      const float out = outwards * d.cross(dir) / len;
+      if (!(along > 0.15f * len && along < 0.85f * len && std::abs(out) < 0.1f * len + 1.5f))
+        continue;
+      const auto step = static_cast<std::size_t>(along);
+      if (out > outermost[step]) {
+        outermost[step] = out;
+        side[step] = cv::Point2f(p);
+      }
+    }
+    found.clear();
+    for (float out : outermost)
+      if (out > -1e9f) found.push_back(out);
+    if (found.size() < 3) return std::nullopt;
+    const auto upper_quartile = found.begin() + static_cast<std::ptrdiff_t>(found.size() * 3 / 4);
+    std::nth_element(found.begin(), upper_quartile, found.end());
+    const float deepest = *upper_quartile - kEnvelopeDepth;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < side.size(); ++i)
+      if (outermost[i] > -1e9f && outermost[i] >= deepest) side[kept++] = side[i];
+    side.resize(kept);
+    if (side.size() < 3) return std::nullopt;
+    cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
+  }
+  std::array<Vec2, 4> quad;
+  for (int k = 0; k < 4; ++k) {
+    // Corner k + 1 is where side k meets side k + 1.
+    const cv::Vec4f& l1 = lines[k];
+    const cv::Vec4f& l2 = lines[(k + 1) % 4];
+    const double det = l1[0] * -l2[1] - l1[1] * -l2[0];
+    if (std::abs(det) < 1e-6) return std::nullopt;
+    const double dx = l2[2] - l1[2], dy = l2[3] - l1[3];
+    const double t = (dx * -l2[1] - dy * -l2[0]) / det;
+    quad[(k + 1) % 4] = Vec2(l1[2] + t * l1[0], l1[3] + t * l1[1]);
+  }
+  // Clockwise on the screen (y down), the corner order of square markers.
+  const double turn = (quad[1] - quad[0]).x() * (quad[2] - quad[1]).y() -
+                      (quad[1] - quad[0]).y() * (quad[2] - quad[1]).x();
+  if (turn < 0) std::swap(quad[1], quad[3]);
+  return quad;
+}
+
+// Pixels shared by the ranges [a0, a1) and [b0, b1); negative: minus the gap between them.
+int overlap_of(int a0, int a1, int b0, int b1) { return std::min(a1, b1) - std::max(a0, b0); }
+
+}  // namespace
+
+std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells) {
+  // Traced on the rows where `binary` changes (banded_contours.hpp), thresholded there only:
+  // uniform rows are uniform in `dark` too. The blobs spanning the width that this leaves out
+  // would fail the box test anyway.
+  const cv::Rect band = changing_band(binary);
+  if (band.empty()) return {};
+  thread_local cv::Mat dark;
+  cv::compare(binary(band), 128, dark, cv::CMP_LT);
+  std::vector<std::vector<cv::Point>> contours;
+  contours_in_band(dark, band, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, contours);
+  const cv::Size image = binary.size();
+  std::vector<std::array<Vec2, 4>> quads;
+  std::vector<DarkBlob> parts;  // blobs that may be part of a square cut in two
+  for (const std::vector<cv::Point>& contour : contours) {
+    const cv::Rect box = cv::boundingRect(contour);
+    // Specks and blobs too large for a square are neither a square nor part of one.
+    if (box.width < 2 || box.height < 2 || box.width > image.width / 4 ||
+        box.height > image.height * 3 / 4)
+      continue;
+    const double area = cv::contourArea(contour);
+    if (const auto quad = quad_of_outline(contour, area, box, min_side_px, image))
+      quads.push_back(*quad);
+    parts.push_back({&contour, box, area});
+  }
+  if (cells <= 0) return quads;
+  // Pairs of parts at most half a cell apart (a marker's white margin is a cell), found along x in
+  // order of their boxes' left sides; widest_gap bounds that half cell for a box within the test's.
+  std::sort(parts.begin(), parts.end(),
+            [](const DarkBlob& a, const DarkBlob& b) { return a.box.x < b.box.x; });
+  const int widest_gap = image.width / 4 / cells + 1;
+  std::vector<cv::Point> joint;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const DarkBlob& a = parts[i];
+    for (std::size_t j = i + 1; j < parts.size(); ++j) {
+      const DarkBlob& b = parts[j];
+      if (b.box.x > a.box.x + a.box.width + widest_gap) break;
+      const cv::Rect both = a.box | b.box;
+      const int overlap_x =
+          overlap_of(a.box.x, a.box.x + a.box.width, b.box.x, b.box.x + b.box.width);
+      const int overlap_y =
+          overlap_of(a.box.y, a.box.y + a.box.height, b.box.y, b.box.y + b.box.height);
+      const int widest = std::min(both.width, both.height) / (2 * cells) + 1;
+      if (-overlap_x > widest || -overlap_y > widest) continue;
+      // A speck beside a blob gives the blob's own quad again; the parts of a cut square are of
+      // a size (halves to thirds), and side by side or one above the other, not touching at a
+      // corner (the squares of a checkerboard).
+      if (std::min(a.area, b.area) < kSmallestPartShare * std::max(a.area, b.area)) continue;
+      if (overlap_x < both.width / 2 && overlap_y < both.height / 2) continue;
+      if (!box_may_hold_square(both, min_side_px, image)) continue;
+      joint.assign(a.contour->begin(), a.contour->end());
+      joint.insert(joint.end(), b.contour->begin(), b.contour->end());
+      if (const auto quad = quad_of_outline(joint, a.area + b.area, both, min_side_px, image))
+        quads.push_back(*quad);
+    }
+  }
+  return quads;
+}
+
+}  // namespace iilfm::detail

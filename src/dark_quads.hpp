@@ -1,0 +1,23 @@
+// Dark squares for ring-sample decoding (ring_decoding.hpp): the black square of a marker whose
+// code no detector could read is still a dark blob with four straight sides in the binary image.
+#pragma once
+
+#include <array>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "iilfm/types.hpp"
+
+namespace iilfm::detail {
+
+// Outlines of dark blobs (0 = black in `binary`) that are nearly quadrilaterals with sides of at
+// least `min_side_px`. Each side is a line fitted to its contour points; corners are the lines'
+// intersections, clockwise on the screen (y down), any corner first.
+//
+// Where the rings are sparse, a white data cell next to a border row no ring crossed can cut the
+// black square in two (a white path from the missing row through the data to a gap in the other
+// border): two dark blobs no farther apart than half a cell (of a square `cells` cells across
+// their joint box) are also tried as one; 0 tries none.
+std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells);
+
+}  // namespace iilfm::detail

@@ -1,0 +1,90 @@
+// Dark squares for ring-sample decoding: the black square of a marker read from sparse rings, with
+// border rows missing and white data cells cutting into it.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "../../src/dark_quads.hpp"
+
+namespace iilfm {
+namespace {
+
+constexpr int kCells = 8;  // tag36h11's black square, border included
+constexpr int kCell = 6;   // pixels a cell
+
+// A white image with an 8 x 8-cell black square whose top-left corner is at (x0, y0), and the
+// cells listed (column, row) painted white.
+cv::Mat square_with_white_cells(int x0, int y0, const std::vector<cv::Point>& white_cells) {
+  cv::Mat image(120, 600, CV_8U, cv::Scalar(255));
+  image(cv::Rect(x0, y0, kCells * kCell, kCells * kCell)).setTo(0);
+  for (const cv::Point& c : white_cells)
+    image(cv::Rect(x0 + c.x * kCell, y0 + c.y * kCell, kCell, kCell)).setTo(255);
+  return image;
+}
+
+// The quad whose corners lie nearest `corners`, and the largest distance between them.
+double distance_to_nearest_quad(const std::vector<std::array<Vec2, 4>>& quads,
+                                const std::array<Vec2, 4>& corners) {
+  double best = 1e9;
+  for (const std::array<Vec2, 4>& quad : quads) {
+    double worst = 0;
+    for (const Vec2& corner : corners) {
+      double nearest = 1e9;
+      for (const Vec2& q : quad) nearest = std::min(nearest, (q - corner).norm());
+      worst = std::max(worst, nearest);
+    }
+    best = std::min(best, worst);
+  }
+  return best;
+}
+
+// The corners of the dark part of the square at (x0, y0) below its first `rows_gone` rows, as
+// the outermost pixel centres (what the fitted sides run through).
+std::array<Vec2, 4> dark_corners(int x0, int y0, int rows_gone = 0) {
+  const double top = y0 + rows_gone * kCell;
+  const double x1 = x0 + kCells * kCell - 1, y1 = y0 + kCells * kCell - 1;
+  return {Vec2(x0, top), Vec2(x1, top), Vec2(x1, y1), Vec2(x0, y1)};
+}
+
+TEST(DarkQuads, ASquareCutInTwoByAWhitePathIsFoundWhole) {
+  // The top border row missing (no ring crossed it), and a white path of data cells from there
+  // down to a gap in the bottom border, turning on its way (as in a VLP-16 Hi-Res scan of a 40 cm
+  // tag36h11 at 2.5 m): two blobs whose boxes touch, neither of them the square.
+  std::vector<cv::Point> white;
+  for (int col = 0; col < kCells; ++col) white.emplace_back(col, 0);
+  for (int row = 1; row <= 3; ++row) white.emplace_back(4, row);
+  for (int row = 3; row < kCells; ++row) white.emplace_back(3, row);
+  const cv::Mat image = square_with_white_cells(100, 30, white);
+  const std::array<Vec2, 4> expected = dark_corners(100, 30, 1);
+  const auto without_pairs = detail::dark_quads(image, 2.0 * kCells, 0);
+  EXPECT_GT(distance_to_nearest_quad(without_pairs, expected), 10.0);
+  const auto quads = detail::dark_quads(image, 2.0 * kCells, kCells);
+  EXPECT_LT(distance_to_nearest_quad(quads, expected), 1.0);
+}
+
+TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
+  // White data cells along the inside of the top border row that no ring crossed: the top side is
+  // a castle wall, whose tops are the side.
+  std::vector<cv::Point> white;
+  for (int col = 0; col < kCells; ++col) white.emplace_back(col, 0);
+  for (int col : {1, 3, 4, 6}) white.emplace_back(col, 1);
+  const cv::Mat image = square_with_white_cells(100, 30, white);
+  const auto quads = detail::dark_quads(image, 2.0 * kCells, kCells);
+  EXPECT_LT(distance_to_nearest_quad(quads, dark_corners(100, 30, 1)), 1.0);
+}
+
+TEST(DarkQuads, NeighbouringSquaresAreNotJoined) {
+  // Squares side by side with the white margins of two markers between them (two cells), and
+  // with one marker's margin alone (one cell).
+  const int side = kCells * kCell;
+  const int x1 = 100, x2 = x1 + side + 2 * kCell, x3 = x2 + side + kCell;
+  cv::Mat image = square_with_white_cells(x1, 30, {});
+  image(cv::Rect(x2, 30, side, side)).setTo(0);
+  image(cv::Rect(x3, 30, side, side)).setTo(0);
+  const auto quads = detail::dark_quads(image, 2.0 * kCells, kCells);
+  ASSERT_EQ(quads.size(), 3u);
+  for (int x : {x1, x2, x3}) EXPECT_LT(distance_to_nearest_quad(quads, dark_corners(x, 30)), 1.0);
+}
+
+}  // namespace
+}  // namespace iilfm
