@@ -17,9 +17,8 @@ struct DarkBlob {
   double area;
 };
 
-// Of two parts tried as one square, the smaller must have at least this share of the larger's
-// area.
-constexpr double kSmallestPartShare = 0.2;
+// Of a pair's box, the least share its dark pixels may cover.
+constexpr double kMinDarkShareOfBox = 0.2;
 
 bool box_may_hold_square(const cv::Rect& box, double min_side_px, const cv::Size& image) {
   return box.width >= min_side_px && box.height >= min_side_px && box.width <= image.width / 4 &&
@@ -152,12 +151,11 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
           overlap_of(a.box.y, a.box.y + a.box.height, b.box.y, b.box.y + b.box.height);
       const int widest = std::min(both.width, both.height) / (2 * cells) + 1;
       if (-overlap_x > widest || -overlap_y > widest) continue;
-      // A speck beside a blob gives the blob's own quad again; the parts of a cut square are of
-      // a size (halves to thirds), and side by side or one above the other, not touching at a
-      // corner (the squares of a checkerboard).
-      if (std::min(a.area, b.area) < kSmallestPartShare * std::max(a.area, b.area)) continue;
-      if (overlap_x < both.width / 2 && overlap_y < both.height / 2) continue;
-      if (!box_may_hold_square(both, min_side_px, image)) continue;
+      // The dark area must fill half the hull, and a quad's hull a good part of its box (half for
+      // a square turned 45 degrees): a cheap test before the hull.
+      if (!box_may_hold_square(both, min_side_px, image) ||
+          a.area + b.area < kMinDarkShareOfBox * both.area())
+        continue;
       joint.assign(a.contour->begin(), a.contour->end());
       joint.insert(joint.end(), b.contour->begin(), b.contour->end());
       if (const auto quad = quad_of_outline(joint, a.area + b.area, both, min_side_px, image))

@@ -62,6 +62,23 @@ TEST(DarkQuads, ASquareCutInTwoByAWhitePathIsFoundWhole) {
   EXPECT_LT(distance_to_nearest_quad(quads, expected), 1.0);
 }
 
+TEST(DarkQuads, ASquareWithACornerCutOffIsFoundWhole) {
+  // The top border row missing and white data cells around a 2 x 2-cell piece in the top-left
+  // corner: a small piece beside a large blob, neither box overlapping the other by half, and the
+  // large blob's hull alone cuts the corner off (as in ULTRA Puck scans of 40 cm and 1 m tags at
+  // 5-14 m).
+  std::vector<cv::Point> white;
+  for (int col = 0; col < kCells; ++col) white.emplace_back(col, 0);
+  for (const cv::Point& cell :
+       {cv::Point(2, 1), cv::Point(2, 2), cv::Point(0, 3), cv::Point(1, 3), cv::Point(2, 3)})
+    white.push_back(cell);
+  const cv::Mat image = square_with_white_cells(100, 30, white);
+  const std::array<Vec2, 4> expected = dark_corners(100, 30, 1);
+  EXPECT_GT(distance_to_nearest_quad(detail::dark_quads(image, 2.0 * kCells, 0), expected), 1.0);
+  EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(image, 2.0 * kCells, kCells), expected),
+            1.0);
+}
+
 TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
   // White data cells along the inside of the top border row that no ring crossed: the top side is
   // a castle wall, whose tops are the side.
