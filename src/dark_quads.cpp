@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -15,7 +16,13 @@ struct DarkBlob {
   const std::vector<cv::Point>* contour;
   cv::Rect box;
   double area;
+  std::vector<cv::Point> hull;  // empty until a pair needs it
 };
+
+const std::vector<cv::Point>& hull_of(DarkBlob& blob) {
+  if (blob.hull.empty()) cv::convexHull(*blob.contour, blob.hull);
+  return blob.hull;
+}
 
 // Of a pair's box, the least share its dark pixels may cover.
 constexpr double kMinDarkShareOfBox = 0.2;
@@ -25,16 +32,18 @@ bool box_may_hold_square(const cv::Rect& box, double min_side_px, const cv::Size
          box.height <= image.height * 3 / 4;
 }
 
-// The quadrilateral of a dark outline: `points` (one blob's contour, or two blobs' together), of
-// `dark_area` pixels within a box `box`.
-std::optional<std::array<Vec2, 4>> quad_of_outline(const std::vector<cv::Point>& points,
-                                                   double dark_area, const cv::Rect& box,
-                                                   double min_side_px, const cv::Size& image) {
-  if (static_cast<double>(points.size()) < 4 * min_side_px) return std::nullopt;
+// The quadrilateral of a dark outline: the points of `outlines` (one blob's contour, or two
+// blobs'), whose convex hull is `hull`, of `dark_area` pixels within a box `box`.
+std::optional<std::array<Vec2, 4>> quad_of_outline(
+    std::initializer_list<const std::vector<cv::Point>*> outlines,
+    const std::vector<cv::Point>& hull, double dark_area, const cv::Rect& box, double min_side_px,
+    const cv::Size& image) {
+  std::size_t points = 0;
+  for (const std::vector<cv::Point>* outline : outlines) points += outline->size();
+  if (static_cast<double>(points) < 4 * min_side_px) return std::nullopt;
   if (!box_may_hold_square(box, min_side_px, image)) return std::nullopt;
   // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
-  std::vector<cv::Point> hull, poly;
-  cv::convexHull(points, hull);
+  std::vector<cv::Point> poly;
   cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
   if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
   if (cv::contourArea(hull) < 0.9 * cv::contourArea(poly) ||
@@ -59,16 +68,18 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(const std::vector<cv::Point>&
     const int steps = static_cast<int>(len) + 1;
     side.assign(static_cast<std::size_t>(steps), cv::Point2f(0, 0));
     outermost.assign(static_cast<std::size_t>(steps), -1e9f);
-    for (const cv::Point& p : points) {
-      const cv::Point2f d = cv::Point2f(p) - a;
-      const float along = (d.x * dir.x + d.y * dir.y) / len;
-      const float out = outwards * d.cross(dir) / len;
-      if (!(along > 0.15f * len && along < 0.85f * len && std::abs(out) < 0.1f * len + 1.5f))
-        continue;
-      const auto step = static_cast<std::size_t>(along);
-      if (out > outermost[step]) {
-        outermost[step] = out;
-        side[step] = cv::Point2f(p);
+    for (const std::vector<cv::Point>* outline : outlines) {
+      for (const cv::Point& p : *outline) {
+        const cv::Point2f d = cv::Point2f(p) - a;
+        const float along = (d.x * dir.x + d.y * dir.y) / len;
+        const float out = outwards * d.cross(dir) / len;
+        if (!(along > 0.15f * len && along < 0.85f * len && std::abs(out) < 0.1f * len + 1.5f))
+          continue;
+        const auto step = static_cast<std::size_t>(along);
+        if (out > outermost[step]) {
+          outermost[step] = out;
+          side[step] = cv::Point2f(p);
+        }
       }
     }
     found.clear();
@@ -127,10 +138,14 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
     if (box.width < 2 || box.height < 2 || box.width > image.width / 4 ||
         box.height > image.height * 3 / 4)
       continue;
-    const double area = cv::contourArea(contour);
-    if (const auto quad = quad_of_outline(contour, area, box, min_side_px, image))
-      quads.push_back(*quad);
-    parts.push_back({&contour, box, area});
+    DarkBlob blob{&contour, box, cv::contourArea(contour), {}};
+    if (static_cast<double>(contour.size()) >= 4 * min_side_px &&
+        box_may_hold_square(box, min_side_px, image)) {
+      if (const auto quad =
+              quad_of_outline({&contour}, hull_of(blob), blob.area, box, min_side_px, image))
+        quads.push_back(*quad);
+    }
+    parts.push_back(std::move(blob));
   }
   if (cells <= 0) return quads;
   // Pairs of parts at most half a cell apart (a marker's white margin is a cell), found along x in
@@ -138,11 +153,11 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
   std::sort(parts.begin(), parts.end(),
             [](const DarkBlob& a, const DarkBlob& b) { return a.box.x < b.box.x; });
   const int widest_gap = image.width / 4 / cells + 1;
-  std::vector<cv::Point> joint;
+  std::vector<cv::Point> hulls, hull;
   for (std::size_t i = 0; i < parts.size(); ++i) {
-    const DarkBlob& a = parts[i];
+    DarkBlob& a = parts[i];
     for (std::size_t j = i + 1; j < parts.size(); ++j) {
-      const DarkBlob& b = parts[j];
+      DarkBlob& b = parts[j];
       if (b.box.x > a.box.x + a.box.width + widest_gap) break;
       const cv::Rect both = a.box | b.box;
       const int overlap_x =
@@ -154,11 +169,15 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       // The dark area must fill half the hull, and a quad's hull a good part of its box (half for
       // a square turned 45 degrees): a cheap test before the hull.
       if (!box_may_hold_square(both, min_side_px, image) ||
-          a.area + b.area < kMinDarkShareOfBox * both.area())
+          a.area + b.area < kMinDarkShareOfBox * both.area() ||
+          static_cast<double>(a.contour->size() + b.contour->size()) < 4 * min_side_px)
         continue;
-      joint.assign(a.contour->begin(), a.contour->end());
-      joint.insert(joint.end(), b.contour->begin(), b.contour->end());
-      if (const auto quad = quad_of_outline(joint, a.area + b.area, both, min_side_px, image))
+      // The hull of the two parts' hulls is the hull of their outlines.
+      hulls.assign(hull_of(a).begin(), hull_of(a).end());
+      hulls.insert(hulls.end(), hull_of(b).begin(), hull_of(b).end());
+      cv::convexHull(hulls, hull);
+      if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, both,
+                                            min_side_px, image))
         quads.push_back(*quad);
     }
   }

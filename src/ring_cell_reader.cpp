@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "cpu_clones.hpp"
@@ -289,6 +290,22 @@ double MarkerSamples::fixed_agreement(double shift_top, double shift_bottom,
 MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
                                                 const CellCodeBook& book,
                                                 double central_fraction) const {
+  return fixed_cell_samples({{lowest, lowest}, {highest, highest}}, book, central_fraction);
+}
+
+MarkerSamples MarkerSamples::fixed_cell_samples(ShiftRange top, ShiftRange bottom,
+                                                const CellCodeBook& book,
+                                                double central_fraction) const {
+  return fixed_cell_samples({{top.lowest, bottom.lowest},
+                             {top.lowest, bottom.highest},
+                             {top.highest, bottom.lowest},
+                             {top.highest, bottom.highest}},
+                            book, central_fraction);
+}
+
+MarkerSamples MarkerSamples::fixed_cell_samples(
+    const std::vector<std::pair<double, double>>& bounding_placings, const CellCodeBook& book,
+    double central_fraction) const {
   MarkerSamples out;
   out.quad_ = quad_;
   out.cell_height_ = cell_height_;
@@ -299,18 +316,28 @@ MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
   constexpr double kMostCells = 4;    // a longer track (a degenerate quad) keeps its sample
   const int T = book.total_width();
   const double half = 0.5 * central_fraction;
-  // Each sample's place at the two ends of the range (the same end twice for an empty range).
+  // Each sample's box of places over the bounding placings.
   const std::size_t n = a_.size();
-  thread_local std::vector<double> x0, y0, x1, y1;
-  const double shifts[2] = {lowest, highest};
-  std::vector<double>* xs[2] = {&x0, &x1};
-  std::vector<double>* ys[2] = {&y0, &y1};
-  for (int end = 0; end < 2; ++end) {
-    xs[end]->resize(n);
-    ys[end]->resize(n);
-    const auto s = static_cast<float>(shifts[end] * cell_height_);
-    places_of_samples(shifted_tangent_to_cell(quad_, s, s, n_), start_, a_.data(), b_.data(), n,
-                      xs[end]->data(), ys[end]->data());
+  thread_local std::vector<double> x, y, x_lo, x_hi, y_lo, y_hi;
+  thread_local std::vector<char> placed;  // 0 once a place is not finite: then no bound
+  placed.assign(n, 1);
+  x.resize(n);
+  y.resize(n);
+  x_lo.assign(n, std::numeric_limits<double>::infinity());
+  y_lo.assign(n, std::numeric_limits<double>::infinity());
+  x_hi.assign(n, -std::numeric_limits<double>::infinity());
+  y_hi.assign(n, -std::numeric_limits<double>::infinity());
+  for (const auto& [shift_top, shift_bottom] : bounding_placings) {
+    places_of_samples(shifted_tangent_to_cell(quad_, static_cast<float>(shift_top * cell_height_),
+                                              static_cast<float>(shift_bottom * cell_height_), n_),
+                      start_, a_.data(), b_.data(), n, x.data(), y.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      placed[i] &= static_cast<char>(std::isfinite(x[i]) && std::isfinite(y[i]));
+      x_lo[i] = std::min(x_lo[i], x[i]);
+      x_hi[i] = std::max(x_hi[i], x[i]);
+      y_lo[i] = std::min(y_lo[i], y[i]);
+      y_hi[i] = std::max(y_hi[i], y[i]);
+    }
   }
   // Whether the middle of a fixed cell lies within [lo, hi] x [top, bottom] (print cells).
   const double first_middle = 0.5 - half, last_middle = T - 0.5 + half;
@@ -332,12 +359,9 @@ MarkerSamples MarkerSamples::fixed_cell_samples(double lowest, double highest,
     return false;
   };
   for (std::size_t i = 0; i < n; ++i) {
-    const bool placed = std::isfinite(x0[i]) && std::isfinite(y0[i]) && std::isfinite(x1[i]) &&
-                        std::isfinite(y1[i]);
-    const double lo = std::min(x0[i], x1[i]) - kRounding, hi = std::max(x0[i], x1[i]) + kRounding;
-    const double top = std::min(y0[i], y1[i]) - kRounding,
-                 bottom = std::max(y0[i], y1[i]) + kRounding;
-    if (placed && !meets_fixed_cell(lo, hi, top, bottom)) continue;  // else kept: no bound
+    if (placed[i] && !meets_fixed_cell(x_lo[i] - kRounding, x_hi[i] + kRounding,
+                                       y_lo[i] - kRounding, y_hi[i] + kRounding))
+      continue;  // else kept: no bound
     out.a_.push_back(a_[i]);
     out.b_.push_back(b_[i]);
     out.intensity_.push_back(intensity_[i]);

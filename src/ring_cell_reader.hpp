@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <utility>
 #include <vector>
 
 #include "cell_code_book.hpp"
@@ -69,6 +70,16 @@ class MarkerSamples {
   // data cells or outside the print at every such placing.
   MarkerSamples fixed_cell_samples(double lowest, double highest, const CellCodeBook& book,
                                    double central_fraction) const;
+  // The same for placings that move the top side by a shift in `top` and the bottom side by one
+  // in `bottom`, independently (the ring candidates' search). A sample's place on the print moves
+  // monotonically with each side's shift while the other stays (exactly so where the quad is an
+  // affine image of the square; tested on perspective ones), so the box of its places at the four
+  // corner placings bounds every place it takes.
+  struct ShiftRange {
+    double lowest, highest;
+  };
+  MarkerSamples fixed_cell_samples(ShiftRange top, ShiftRange bottom, const CellCodeBook& book,
+                                   double central_fraction) const;
 
  private:
   // Each cell's sum and count of the samples in its middle `central_fraction` at the placing, and
@@ -76,6 +87,11 @@ class MarkerSamples {
   // `data_cells`.
   void sum_cells(double shift_top, double shift_bottom, const CellCodeBook& book,
                  double central_fraction, bool data_cells, Scratch& scratch) const;
+
+  // The samples whose box of places over `bounding_placings` (shift_top, shift_bottom) meets the
+  // middle of a fixed cell.
+  MarkerSamples fixed_cell_samples(const std::vector<std::pair<double, double>>& bounding_placings,
+                                   const CellCodeBook& book, double central_fraction) const;
 
   // Tangent-plane coordinates (b grows downwards in the image) and intensity of each sample, in
   // separate arrays so the per-placing mapping vectorises.

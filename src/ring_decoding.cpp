@@ -154,13 +154,16 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
   const int outward = static_cast<int>(std::lround(grow / step));
   MarkerSamples::Scratch scratch;
-  // A detection's placings move the square as a whole: the search reads only the samples that
-  // can fall in a fixed cell at one of them (the same agreements from a fraction of the samples).
-  const MarkerSamples fixed_samples =
-      candidate ? MarkerSamples()
+  // The search reads only the samples that can fall in a fixed cell at one of its placings (the
+  // same agreements from a fraction of the samples). A detection's placings move the square as a
+  // whole; a candidate's move its top side by -outward..inward steps and its bottom side by
+  // -inward..outward.
+  const MarkerSamples searched =
+      candidate ? samples.fixed_cell_samples({-outward * step, inward * step},
+                                             {-inward * step, outward * step}, book,
+                                             read_options.central_fraction)
                 : samples.fixed_cell_samples(-outward * step, inward * step, book,
                                              read_options.central_fraction);
-  const MarkerSamples& searched = candidate ? samples : fixed_samples;
   const auto agreement_at = [&](double t, double b) {
     return searched.fixed_agreement(t, b, book, read_options, scratch);
   };

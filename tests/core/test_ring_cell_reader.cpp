@@ -183,6 +183,51 @@ TEST(MarkerSamples, FixedCellSamplesGiveTheAgreementOfAllSamples) {
   EXPECT_GT(placings, 40) << "too few placings read: the test checks too little";
 }
 
+// The same for the ring candidates' search, which moves the top and bottom sides independently:
+// every placing of both ranges gets the agreement of all samples from the samples kept, also for
+// a quad that is no affine image of a square (two corners moved by pixels).
+TEST(MarkerSamples, FixedCellSamplesOfIndependentSidesGiveTheAgreementOfAllSamples) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  const RingScene dense(42, 1.0, 2.0, 90, 0.4, 0.0), sparse(7, 1.0, 3.5, 16, 2.0, 0.05);
+  int placings = 0;
+  std::size_t kept_total = 0, all_total = 0;
+  for (const RingScene* scene : {&dense, &sparse}) {
+    for (int variant = 0; variant < 3; ++variant) {
+      std::array<Vec2, 4> corners = scene->corners;
+      if (variant == 1) {  // off by part of a pixel, listed from the top-right corner
+        for (Vec2& c : corners) c += Vec2(0.3, -0.2);
+        std::rotate(corners.begin(), corners.begin() + 1, corners.end());
+      } else if (variant == 2) {  // a perspective quad
+        corners[1] += Vec2(3.0, 1.0);
+        corners[3] += Vec2(-1.0, -0.5);
+      }
+      const MarkerSamples all(corners, scene->image, scene->image.intensity, *book);
+      ASSERT_FALSE(all.empty());
+      for (const auto& [top_low, top_high, bottom_low, bottom_high, step, central] :
+           {std::tuple{-1.5, 0.6, -0.6, 1.5, 0.1, 0.9},
+            std::tuple{-0.6, 0.6, -0.6, 0.6, 0.2, 0.6}}) {
+        CellReadOptions options;
+        options.central_fraction = central;
+        const MarkerSamples kept =
+            all.fixed_cell_samples({top_low, top_high}, {bottom_low, bottom_high}, *book, central);
+        kept_total += kept.size();
+        all_total += all.size();
+        MarkerSamples::Scratch scratch;
+        for (double top = top_low; top <= top_high + 1e-9; top += step) {
+          for (double bottom = bottom_low; bottom <= bottom_high + 1e-9; bottom += step) {
+            const double expected = all.fixed_agreement(top, bottom, *book, options, scratch);
+            ASSERT_EQ(kept.fixed_agreement(top, bottom, *book, options, scratch), expected)
+                << "top " << top << ", bottom " << bottom << ", variant " << variant;
+            placings += expected >= 0 ? 1 : 0;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(placings, 200) << "too few placings read: the test checks too little";
+  EXPECT_LT(kept_total, all_total * 8 / 10) << "kept too many to gain anything";
+}
+
 // The vectorised read of one placing, which the candidates' tied placings use, gives what
 // read_cells gives on place()'s samples: levels, fixed cells and bits, at independent top and
 // bottom shifts over dense and sparse rings and both central fractions.
