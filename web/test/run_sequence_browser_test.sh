@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ctest `html_sequence_report_browser`: simulates an ULTRA Puck walking past the 7 x 5 tag grid
-# (8 scans, turning; one finds no marker, and in one the LiDAR faces backwards), writes
+# (8 scans, turning; in one the LiDAR faces backwards, and one is taken 40 m away, where no
+# marker can be found, so the trajectory has a gap), writes
 # them into a ROS 1 bag, runs
 # `iilfm detect BAG --topic ... --jsonl --html` and checks the page in headless Chromium
 # (sequence_browser_test.mjs).
@@ -16,12 +17,13 @@ fi
 mkdir -p "$out" "$web/test"
 # Next to web/node_modules, so that playwright-core resolves.
 cp "$here/browser.mjs" "$here/sequence_browser_test.mjs" "$web/test/"
-frames=8 turned=5  # in scan 7 the LiDAR faces backwards (360 degrees: it still sees the grid)
+frames=8 turned=5 away=3  # scan 5 faces backwards (360 degrees: it still sees the grid)
 pcds=()
 for ((k = 0; k < frames; ++k)); do
   yaw=$(awk -v k=$k -v turned=$turned 'BEGIN { print (k == turned ? 180 : -9 + 1.5 * k) }')
-  xyz=$(awk -v k=$k \
-    'BEGIN { printf "%.3f %.3f %.3f", 0.1 + 0.09 * k, -0.5 + 0.08 * k, 0.6 + 0.1 * sin(k / 2) }')
+  xyz=$(awk -v k=$k -v away=$away \
+    'BEGIN { printf "%.3f %.3f %.3f", (k == away ? -40 : 0.1 + 0.09 * k), -0.5 + 0.08 * k,
+             0.6 + 0.1 * sin(k / 2) }')
   "$cli" sim --scene grid --sensor ultrapuck --seed $((k + 1)) --lidar-xyz $xyz \
     --lidar-rpy 0.5 -1 "$yaw" --out "$out/scan$k.pcd" --map "$out/map.yaml" > /dev/null
   pcds+=("$out/scan$k.pcd")
