@@ -173,8 +173,10 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
           static_cast<double>(a.contour->size() + b.contour->size()) < 4 * min_side_px)
         continue;
       // The hull of the two parts' hulls is the hull of their outlines.
-      hulls.assign(hull_of(a).begin(), hull_of(a).end());
-      hulls.insert(hulls.end(), hull_of(b).begin(), hull_of(b).end());
+      const std::vector<cv::Point>& hull_a = hull_of(a);
+      const std::vector<cv::Point>& hull_b = hull_of(b);
+      hulls.assign(hull_a.begin(), hull_a.end());
+      hulls.insert(hulls.end(), hull_b.begin(), hull_b.end());
       cv::convexHull(hulls, hull);
       if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, both,
                                             min_side_px, image))

@@ -10,14 +10,15 @@
 
 namespace iilfm::detail {
 
-// Outlines of dark blobs (0 = black in `binary`) that are nearly quadrilaterals with sides of at
-// least `min_side_px`. Each side is a line fitted to its contour points; corners are the lines'
-// intersections, clockwise on the screen (y down), any corner first.
+// Outlines of dark blobs (0 = black in `binary`) whose convex hulls are nearly quadrilaterals with
+// sides of at least `min_side_px`. Each side is a line fitted to the outline's outer envelope along
+// it (white data cells next to a border row no ring crossed notch the outline); corners are the
+// lines' intersections, clockwise on the screen (y down), any corner first.
 //
-// Where the rings are sparse, a white data cell next to a border row no ring crossed can cut the
-// black square in two (a white path from the missing row through the data to a gap in the other
-// border): two dark blobs no farther apart than half a cell (of a square `cells` cells across
-// their joint box) are also tried as one; 0 tries none.
+// Where the rings are sparse, white data cells can also cut the black square in two (a white path
+// from a missing border row through the data to a gap in the other border) or cut a corner piece
+// off it: two dark blobs no farther apart than half a cell (of a square `cells` cells across their
+// joint box) are also tried as one; `cells` 0 tries none.
 std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells);
 
 }  // namespace iilfm::detail
