@@ -287,7 +287,8 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   int min_cells = 1 << 30;
   for (const auto& entry : books_) min_cells = std::min(min_cells, entry.second->border_width());
   const std::size_t before = out.size();
-  for (const std::array<Vec2, 4>& quad : dark_quads(detect_gray, kMinCandidatePixelsPerCell * min_cells, min_cells)) {
+  for (const std::array<Vec2, 4>& quad :
+       dark_quads(detect_gray, kMinCandidatePixelsPerCell * min_cells, min_cells)) {
     std::vector<Vec2> corners(quad.begin(), quad.end());
     push_edges_outward(corners);  // the sides run through the outermost pixel centres
     std::array<Vec2, 4> projected;
