@@ -2,7 +2,10 @@
 // border rows missing and white data cells cutting into it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "../../src/dark_quads.hpp"
 
@@ -22,7 +25,8 @@ cv::Mat square_with_white_cells(int x0, int y0, const std::vector<cv::Point>& wh
   return image;
 }
 
-// The quad whose corners lie nearest `corners`, and the largest distance between them.
+// How far the quad nearest `corners` lies from them: over the corners, the largest distance to
+// that quad's nearest corner (1e9 without quads).
 double distance_to_nearest_quad(const std::vector<std::array<Vec2, 4>>& quads,
                                 const std::array<Vec2, 4>& corners) {
   double best = 1e9;
