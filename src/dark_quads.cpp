@@ -27,21 +27,21 @@ const std::vector<cv::Point>& hull_of(DarkBlob& blob) {
 // Of a pair's box, the least share its dark pixels may cover.
 constexpr double kMinDarkShareOfBox = 0.2;
 
-bool box_may_hold_square(const cv::Rect& box, double min_side_px, const cv::Size& image) {
-  return box.width >= min_side_px && box.height >= min_side_px && box.width <= image.width / 4 &&
+// Whether an outline of `points` points in a box `box` is long and large enough for a square of
+// sides of at least `min_side_px`, and small enough to be a marker in `image`: the cheap tests,
+// made before the hull.
+bool may_hold_square(std::size_t points, const cv::Rect& box, double min_side_px,
+                     const cv::Size& image) {
+  return static_cast<double>(points) >= 4 * min_side_px && box.width >= min_side_px &&
+         box.height >= min_side_px && box.width <= image.width / 4 &&
          box.height <= image.height * 3 / 4;
 }
 
-// The quadrilateral of a dark outline: the points of `outlines` (one blob's contour, or two
-// blobs'), whose convex hull is `hull`, of `dark_area` pixels within a box `box`.
+// The quadrilateral of a dark outline that may_hold_square: the points of `outlines` (one blob's
+// contour, or two blobs'), whose convex hull is `hull`, of `dark_area` pixels.
 std::optional<std::array<Vec2, 4>> quad_of_outline(
     std::initializer_list<const std::vector<cv::Point>*> outlines,
-    const std::vector<cv::Point>& hull, double dark_area, const cv::Rect& box, double min_side_px,
-    const cv::Size& image) {
-  std::size_t points = 0;
-  for (const std::vector<cv::Point>* outline : outlines) points += outline->size();
-  if (static_cast<double>(points) < 4 * min_side_px) return std::nullopt;
-  if (!box_may_hold_square(box, min_side_px, image)) return std::nullopt;
+    const std::vector<cv::Point>& hull, double dark_area) {
   // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
   std::vector<cv::Point> poly;
   cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
@@ -139,10 +139,8 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
         box.height > image.height * 3 / 4)
       continue;
     DarkBlob blob{&contour, box, cv::contourArea(contour), {}};
-    if (static_cast<double>(contour.size()) >= 4 * min_side_px &&
-        box_may_hold_square(box, min_side_px, image)) {
-      if (const auto quad =
-              quad_of_outline({&contour}, hull_of(blob), blob.area, box, min_side_px, image))
+    if (may_hold_square(contour.size(), box, min_side_px, image)) {
+      if (const auto quad = quad_of_outline({&contour}, hull_of(blob), blob.area))
         quads.push_back(*quad);
     }
     parts.push_back(std::move(blob));
@@ -168,9 +166,8 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       if (-overlap_x > widest || -overlap_y > widest) continue;
       // The dark area must fill half the hull, and a quad's hull a good part of its box (half for
       // a square turned 45 degrees): a cheap test before the hull.
-      if (!box_may_hold_square(both, min_side_px, image) ||
-          a.area + b.area < kMinDarkShareOfBox * both.area() ||
-          static_cast<double>(a.contour->size() + b.contour->size()) < 4 * min_side_px)
+      if (!may_hold_square(a.contour->size() + b.contour->size(), both, min_side_px, image) ||
+          a.area + b.area < kMinDarkShareOfBox * both.area())
         continue;
       // The hull of the two parts' hulls is the hull of their outlines.
       const std::vector<cv::Point>& hull_a = hull_of(a);
@@ -178,8 +175,7 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       hulls.assign(hull_a.begin(), hull_a.end());
       hulls.insert(hulls.end(), hull_b.begin(), hull_b.end());
       cv::convexHull(hulls, hull);
-      if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, both,
-                                            min_side_px, image))
+      if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area))
         quads.push_back(*quad);
     }
   }
