@@ -147,6 +147,19 @@ TEST(RingDecoder, FindsTheVerticalShiftOfCornersOffByHalfARing) {
   EXPECT_LT(r.shift_top, 0);  // moved back up
 }
 
+// The corners as given (variant 0), off by part of a pixel and listed from the top-right corner
+// (1), or with two corners moved by pixels, a quad that is no affine image of a square (2).
+std::array<Vec2, 4> corners_variant(std::array<Vec2, 4> corners, int variant) {
+  if (variant == 1) {
+    for (Vec2& c : corners) c += Vec2(0.3, -0.2);
+    std::rotate(corners.begin(), corners.begin() + 1, corners.end());
+  } else if (variant == 2) {
+    corners[1] += Vec2(3.0, 1.0);
+    corners[3] += Vec2(-1.0, -0.5);
+  }
+  return corners;
+}
+
 // The samples kept for a detection's search give every whole-square shift in the range the
 // agreement all samples give, from far fewer samples: dense and sparse rings, corners off by
 // part of a pixel, the quad's corners listed from another one, three ranges (one of a single
@@ -156,12 +169,8 @@ TEST(MarkerSamples, FixedCellSamplesGiveTheAgreementOfAllSamples) {
   const RingScene dense(42, 1.0, 2.0, 90, 0.4, 0.0), sparse(7, 1.0, 3.5, 16, 2.0, 0.05);
   int placings = 0;
   for (const RingScene* scene : {&dense, &sparse}) {
-    std::array<Vec2, 4> corners = scene->corners;
     for (int variant = 0; variant < 2; ++variant) {
-      if (variant == 1) {  // off by part of a pixel, listed from the top-right corner
-        for (Vec2& c : corners) c += Vec2(0.3, -0.2);
-        std::rotate(corners.begin(), corners.begin() + 1, corners.end());
-      }
+      const std::array<Vec2, 4> corners = corners_variant(scene->corners, variant);
       const MarkerSamples all(corners, scene->image, scene->image.intensity, *book);
       ASSERT_FALSE(all.empty());
       for (const auto& [reach, step, central] :
@@ -193,14 +202,7 @@ TEST(MarkerSamples, FixedCellSamplesOfIndependentSidesGiveTheAgreementOfAllSampl
   std::size_t kept_total = 0, all_total = 0;
   for (const RingScene* scene : {&dense, &sparse}) {
     for (int variant = 0; variant < 3; ++variant) {
-      std::array<Vec2, 4> corners = scene->corners;
-      if (variant == 1) {  // off by part of a pixel, listed from the top-right corner
-        for (Vec2& c : corners) c += Vec2(0.3, -0.2);
-        std::rotate(corners.begin(), corners.begin() + 1, corners.end());
-      } else if (variant == 2) {  // a perspective quad
-        corners[1] += Vec2(3.0, 1.0);
-        corners[3] += Vec2(-1.0, -0.5);
-      }
+      const std::array<Vec2, 4> corners = corners_variant(scene->corners, variant);
       const MarkerSamples all(corners, scene->image, scene->image.intensity, *book);
       ASSERT_FALSE(all.empty());
       for (const auto& [top_low, top_high, bottom_low, bottom_high, step, central] :
