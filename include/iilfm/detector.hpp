@@ -110,6 +110,9 @@ struct DetectorImages {
   cv::Mat image;  // CV_8U: binary (0 or 255) unless binarisation is off
   cv::Mat gray;   // CV_8U, or empty
   cv::Mat valid;  // CV_8U, 255 where `gray` holds a value; empty with `gray`
+  // When >= 0, only markers crossing this column are wanted (the strip across a full-circle
+  // image's seam): a back-end may leave the rest of the image unsearched.
+  int crossing_column = -1;
 };
 
 class MarkerDetector {

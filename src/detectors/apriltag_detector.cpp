@@ -94,23 +94,22 @@ class AprilTagDetector final : public MarkerDetector {
   const std::string& family() const override { return name_; }
 
   void detect(const cv::Mat& gray, std::vector<Detection>& out) override {
-    CV_Assert(gray.type() == CV_8UC1);
-    detect_in_search_regions(
-        gray, use_regions_, rules_, crop_,
-        [&](const cv::Mat& part, cv::Point origin) { detect_in(part, origin, out); });
+    detect_with(gray, rules_, out);
   }
 
   void detect_images(const DetectorImages& images, std::vector<Detection>& out) override {
     const cv::Mat& binary = images.image;
     CV_Assert(binary.type() == CV_8UC1);
+    SearchRegionRules rules = rules_;
+    rules.crossing_column = images.crossing_column;
     const bool gray_given = !images.gray.empty() && images.gray.size() == binary.size() &&
                             images.valid.size() == binary.size();
     if (!decode_gray_ || !gray_given) {
-      detect(binary, out);
+      detect_with(binary, rules, out);
       return;
     }
     detect_in_search_regions(
-        binary, use_regions_, rules_, crop_, [&](const cv::Mat& part, cv::Point origin) {
+        binary, use_regions_, rules, crop_, [&](const cv::Mat& part, cv::Point origin) {
           const std::size_t before = out.size();
           detect_in(part, origin, out);
           const cv::Rect box(origin, part.size());
@@ -142,6 +141,14 @@ class AprilTagDetector final : public MarkerDetector {
   }
 
  private:
+  void detect_with(const cv::Mat& gray, const SearchRegionRules& rules,
+                   std::vector<Detection>& out) {
+    CV_Assert(gray.type() == CV_8UC1);
+    detect_in_search_regions(
+        gray, use_regions_, rules, crop_,
+        [&](const cv::Mat& part, cv::Point origin) { detect_in(part, origin, out); });
+  }
+
   // Runs libapriltag on `image`, whose pixel (0, 0) is `origin` of the detector's input.
   void detect_in(const cv::Mat& image, cv::Point origin, std::vector<Detection>& out) {
     // libapriltag 3.3 reads outside images under 6 pixels wide or high (a one-row image from a

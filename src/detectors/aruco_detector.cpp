@@ -46,13 +46,24 @@ class ArucoDetector final : public MarkerDetector {
   const std::string& family() const override { return name_; }
 
   void detect(const cv::Mat& gray, std::vector<Detection>& out) override {
-    CV_Assert(gray.type() == CV_8UC1);
-    detect_in_search_regions(
-        gray, options_.search_regions, rules_, crop_,
-        [&](const cv::Mat& part, cv::Point origin) { detect_in(gray, part, origin, out); });
+    detect_with(gray, rules_, out);
+  }
+
+  void detect_images(const DetectorImages& images, std::vector<Detection>& out) override {
+    SearchRegionRules rules = rules_;
+    rules.crossing_column = images.crossing_column;
+    detect_with(images.image, rules, out);
   }
 
  private:
+  void detect_with(const cv::Mat& gray, const SearchRegionRules& rules,
+                   std::vector<Detection>& out) {
+    CV_Assert(gray.type() == CV_8UC1);
+    detect_in_search_regions(
+        gray, options_.search_regions, rules, crop_,
+        [&](const cv::Mat& part, cv::Point origin) { detect_in(gray, part, origin, out); });
+  }
+
   // Detects in `part` of `gray`, whose pixel (0, 0) is `origin` of `gray`.
   void detect_in(const cv::Mat& gray, const cv::Mat& part, cv::Point origin,
                  std::vector<Detection>& out) {

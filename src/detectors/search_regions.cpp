@@ -110,8 +110,9 @@ IILFM_AVX2_CLONES bool is_binary(const cv::Mat& image) {
 std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules) {
   const cv::Size size = binary.size();
   const std::vector<cv::Rect> whole{cv::Rect(cv::Point(0, 0), size)};
-  if (static_cast<double>(row_changes(binary)) >
-      rules.max_change_density * static_cast<double>(size.area()))
+  const int crossing = rules.crossing_column;
+  if (crossing < 0 && static_cast<double>(row_changes(binary)) >
+                          rules.max_change_density * static_cast<double>(size.area()))
     return whole;
   thread_local std::vector<std::vector<cv::Point>> contours;
   thread_local std::vector<cv::Point> polygon;
@@ -120,11 +121,13 @@ std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRu
   std::vector<cv::Rect> boxes;
   for (const std::vector<cv::Point>& contour : contours) {
     const cv::Rect box = cv::boundingRect(contour);
-    if (!could_be_quad(contour, box, size, rules, polygon)) continue;
-    if (boxes.size() == kMostCandidates) return whole;
     const int longer = std::max(box.width, box.height);
     const int margin = rules.margin_px + static_cast<int>(std::ceil(rules.reach * longer));
-    boxes.push_back(widened(box, margin, size));
+    const cv::Rect region = widened(box, margin, size);
+    if (crossing >= 0 && (region.x > crossing || region.br().x <= crossing)) continue;
+    if (!could_be_quad(contour, box, size, rules, polygon)) continue;
+    if (boxes.size() == kMostCandidates) return whole;
+    boxes.push_back(region);
   }
   merge_overlapping(boxes);
   double area = 0;

@@ -32,6 +32,10 @@ struct SearchRegionRules {
   // tracing its boundaries (a cluttered scan: 0.035 on the real Pandar64 ones, whose tracing cost
   // 1 ms of their 7.5; the bench scenes 0.0006-0.0035).
   double max_change_density = 0.015;
+  // When >= 0, only boundaries whose region (widened by the reach and margin) holds this column
+  // are searched (DetectorImages::crossing_column), and a busy image is traced all the same: on
+  // the seam strips of real Pandar64 scans, searching the strip whole was a fifth of the pipeline.
+  int crossing_column = -1;
 };
 
 // True when every pixel of the 8-bit image is 0 or 255.
@@ -42,8 +46,8 @@ bool is_binary(const cv::Mat& image);
 // 4-pixel threshold tiles, so that the threshold libapriltag computes inside a box is the one it
 // computes there on the whole image. A boundary that touches the image edge is left out: a
 // marker's border needs white beyond it inside the image. Returns the whole image when the boxes
-// would cover more than max_coverage of it or the image changes too often to be worth tracing, and
-// nothing when no boundary qualifies.
+// would cover more than max_coverage of it or the image changes too often to be worth tracing
+// (unless only crossing_column's boundaries are wanted), and nothing when no boundary qualifies.
 std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules);
 
 // Calls detect_in(part, origin) for each search region of `image` (a copy of its pixels in

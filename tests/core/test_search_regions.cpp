@@ -155,6 +155,33 @@ TEST(SearchRegions, AMarkerFillingTheImageIsSearchedWhole) {
   EXPECT_EQ(found[0].id, 7);
 }
 
+// The strip across a full-circle image's seam: only what crosses its middle column is wanted, and
+// a busy strip is still traced rather than searched whole.
+TEST(SearchRegions, OnlyBoundariesNearTheCrossingColumnAreSearchedEvenInABusyImage) {
+  cv::Mat image = scene("apriltag:tag36h11");
+  cv::RNG rng(3);
+  for (int y = 0; y < 200; y += 5)  // clutter right of the tags, busy enough to search whole
+    for (int x = 1000; x < 1600; x += 5) image(cv::Rect(x, y, 5, 5)).setTo(rng.uniform(0, 2) * 255);
+  ASSERT_EQ(search_regions(image, SearchRegionRules{}).size(), 1u);  // the whole image
+  SearchRegionRules rules;
+  rules.crossing_column = 400;  // through tag 1 (centre 400, 70 px, turned 25 degrees)
+  const std::vector<cv::Rect> regions = search_regions(image, rules);
+  ASSERT_FALSE(regions.empty());
+  const cv::Rect tag1(355, 65, 90, 90);
+  EXPECT_TRUE(std::any_of(regions.begin(), regions.end(),
+                          [&](const cv::Rect& r) { return (r & tag1) == tag1; }));
+  for (const cv::Rect& r : regions) {
+    EXPECT_LE(r.x, 400) << r;
+    EXPECT_GT(r.br().x, 400) << r;
+  }
+  std::vector<Detection> found;
+  DetectorImages images{image, cv::Mat(), cv::Mat()};
+  images.crossing_column = 400;
+  make_detector("apriltag:tag36h11")->detect_images(images, found);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].id, 1);
+}
+
 TEST(SearchRegions, AnImageWithoutBoundariesHasNone) {
   EXPECT_TRUE(search_regions(cv::Mat(50, 80, CV_8U, cv::Scalar(255)), {}).empty());
   EXPECT_TRUE(search_regions(cv::Mat(50, 80, CV_8U, cv::Scalar(0)), {}).empty());

@@ -35,6 +35,21 @@ TEST(Seam, MarkerBehindAnOusterIsFoundWholeAndGivesThePose) {
   }
 }
 
+// The same tag turned so that it lies wholly on one side, its border about 0.3 degrees (under a
+// column) from the seam: the image's edge cuts its white margin, so the image itself cannot find
+// it and the strip across the seam must keep it although it does not straddle the seam (found in
+// none of these four scans before).
+TEST(Seam, MarkerWhoseMarginTheSeamCutsIsFoundOnce) {
+  for (double yaw : {174.0, 186.0}) {
+    for (std::uint64_t seed : {1, 2}) {
+      const eval::CaseScore s = run_turned("os1-64", 0.4, 2.0, yaw, seed);
+      EXPECT_EQ(s.detected, 1) << "yaw " << yaw << " seed " << seed;
+      EXPECT_EQ(s.false_positives + s.wrong_ids, 0) << "yaw " << yaw;  // a second report counts
+      EXPECT_LT(s.corner_error_mean, 0.01) << "yaw " << yaw;
+    }
+  }
+}
+
 // VLP-16 (ring rows and square pixels), 1 m tag at 2.5 m, in front, centred on the seam and off
 // it. The raw corners lie up to a ring (4 cm here) off the square, and that shape misfit alone
 // once made the one-marker pose "disagree with the map" (43 mm against a 37.5 mm tolerance); the
