@@ -65,14 +65,21 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   n_ = book.border_width();
   cell_height_ = std::sqrt(area) / book.border_width();  // whatever the quad's turn
 
-  // Pixels around the printed image (one more cell each way, for the shifts tried).
+  // Pixels around the printed image (one more cell each way, for the shifts tried), their columns
+  // on the corners' side of a full-circle image's seam (a quad across it has corners past the
+  // last column).
   const double lo = -start_ - 1, hi = book.total_width() - start_ + 1;
+  const double u_corners =
+      0.25 * (corners_px[0].x() + corners_px[1].x() + corners_px[2].x() + corners_px[3].x());
   double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
   for (const auto& [x, y] : {std::pair{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}) {
     const cv::Point2d t = apply(cell_to_tangent, x, y);
     const Vec2 px = g.pixel_of_point(frame.ray(Vec2(t.x, t.y)));
-    u_min = std::min(u_min, px.x());
-    u_max = std::max(u_max, px.x());
+    double u = px.x();
+    if (g.full_circle())
+      u += std::round((u_corners - u) / g.columns_per_turn()) * g.columns_per_turn();
+    u_min = std::min(u_min, u);
+    u_max = std::max(u_max, u);
     v_min = std::min(v_min, px.y());
     v_max = std::max(v_max, px.y());
   }

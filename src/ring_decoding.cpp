@@ -4,12 +4,14 @@
 #include <bitset>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <utility>
 
 #include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "seam_detection.hpp"
 
 namespace iilfm::detail {
 
@@ -287,19 +289,27 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   int min_cells = 1 << 30;
   for (const auto& entry : books_) min_cells = std::min(min_cells, entry.second->border_width());
   const std::size_t before = out.size();
-  for (const std::array<Vec2, 4>& quad :
-       dark_quads(detect_gray, kMinCandidatePixelsPerCell * min_cells, min_cells)) {
-    std::vector<Vec2> corners(quad.begin(), quad.end());
-    push_edges_outward(corners);  // the sides run through the outermost pixel centres
+  const double min_side_px = kMinCandidatePixelsPerCell * min_cells;
+  // A full-circle image's columns one turn apart point the same way: a detection across the seam
+  // has columns past the last one.
+  const double turn = image.geometry.full_circle() ? image.geometry.columns_per_turn() : 0;
+  const auto known_at = [&](const Vec2& centre) {
+    if (!known) return false;
+    if (known(centre)) return true;
+    return turn > 0 && (known(centre + Vec2(turn, 0)) || known(centre - Vec2(turn, 0)));
+  };
+  // Reads a dark quad whose corners are `corners` in `quad_gray` (the detector image, or the strip
+  // across its seam) and `detect_corners` in the detector image's continuous coordinates.
+  const auto read_quad = [&](const std::vector<Vec2>& corners, const cv::Mat& quad_gray,
+                             const std::vector<Vec2>& detect_corners) {
     std::array<Vec2, 4> projected;
     for (int k = 0; k < 4; ++k)
-      projected[k] = map_pixel(corners[k], detect_geometry, image.geometry);
-    if (known && known(0.25 * (projected[0] + projected[1] + projected[2] + projected[3])))
-      continue;
+      projected[k] = map_pixel(detect_corners[k], detect_geometry, image.geometry);
+    if (known_at(0.25 * (projected[0] + projected[1] + projected[2] + projected[3]))) return;
     std::vector<std::pair<const std::string*, RingRead>> reads;
     for (const auto& [family, book] : books_) {
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
-      if (quiet_zone_fraction(detect_gray, corners, book->border_width()) < kMinCandidateMargin)
+      if (quiet_zone_fraction(quad_gray, corners, book->border_width()) < kMinCandidateMargin)
         continue;
       RingRead r = read(family, projected, image, intensity, true);
       if (r.read) reads.emplace_back(&family, std::move(r));
@@ -324,13 +334,41 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       std::rotate(best.corners_px.begin(), best.corners_px.begin() + r.decoded.quarter_turns,
                   best.corners_px.end());
     }
-    if (best.id < 0) continue;
-    // OpenCV reports nested outlines of one square (inner and outer edge of the border): keep
-    // one decoding per id.
+    if (best.id < 0) return;
+    // OpenCV reports nested outlines of one square (inner and outer edge of the border), and the
+    // strip across the seam repeats what lies near it: keep one decoding per id.
     bool seen = false;
     for (std::size_t i = before; i < out.size(); ++i)
       seen |= out[i].family == best.family && out[i].id == best.id;
     if (!seen) out.push_back(std::move(best));
+  };
+  std::vector<Vec2> corners, detect_corners;
+  for (const std::array<Vec2, 4>& quad : dark_quads(detect_gray, min_side_px, min_cells)) {
+    corners.assign(quad.begin(), quad.end());
+    push_edges_outward(corners);  // the sides run through the outermost pixel centres
+    read_quad(corners, detect_gray, corners);
+  }
+  // A square across a full-circle image's seam is cut in two there, and one whose margin the
+  // image's edge cuts fails the margin look: both are read from the strip across the seam
+  // (seam_detection.hpp), which holds them whole.
+  const std::optional<SeamStrip> cut = SeamStrip::of(detect_geometry);
+  if (!cut || detect_gray.cols != detect_geometry.width) return;
+  thread_local cv::Mat strip;
+  cut->cut(detect_gray, strip);
+  for (const std::array<Vec2, 4>& quad : dark_quads(strip, min_side_px, min_cells)) {
+    corners.assign(quad.begin(), quad.end());
+    push_edges_outward(corners);
+    double lo = corners[0].x(), hi = lo;
+    for (const Vec2& p : corners) {
+      lo = std::min(lo, p.x());
+      hi = std::max(hi, p.x());
+    }
+    const double seam = cut->seam();
+    const bool across = lo < seam && hi >= seam;
+    if (!across && !near_seam(lo, hi, seam)) continue;
+    detect_corners = corners;
+    for (Vec2& p : detect_corners) p.x() = across ? cut->image_u(p.x()) : cut->own_u(p.x());
+    read_quad(corners, strip, detect_corners);
   }
 }
 

@@ -9,47 +9,58 @@ namespace iilfm {
 
 namespace {
 
-// A marker wholly on one side of the seam is near it when its keypoints come within this share of
-// its width plus this many pixels of it: a detector reads about a quarter of the width beyond the
-// border, and thresholds over a few pixels more (search_regions.hpp).
-constexpr double kNearSeamShare = 0.5;
-constexpr double kNearSeamPx = 8;
 // Outlines overlapping this much (intersection over union) are one marker.
 constexpr double kSameMarkerOverlap = 0.3;
 
+// `d` moved `du` columns along the image.
+Detection shifted(const Detection& d, double du) {
+  Detection moved = d;
+  for (Vec2& p : moved.corners_px) p.x() += du;
+  return moved;
+}
+
 }  // namespace
+
+bool near_seam(double lo, double hi, double seam) {
+  const double gap = hi < seam ? seam - hi : lo - seam;
+  return gap <= 0.5 * (hi - lo) + 8;
+}
+
+std::optional<SeamStrip> SeamStrip::of(const ImageGeometry& geometry) {
+  if (!geometry.full_circle() || geometry.width < 16) return std::nullopt;
+  SeamStrip strip;
+  strip.width = geometry.width;
+  strip.turn = geometry.columns_per_turn();
+  strip.start =
+      std::clamp(static_cast<int>(std::lround(strip.width - strip.turn)), 0, strip.width / 4);
+  strip.half = std::max(8, strip.width / 8);
+  return strip;
+}
+
+void SeamStrip::cut(const cv::Mat& image, cv::Mat& strip) const {
+  if (image.empty()) {
+    strip.release();
+    return;
+  }
+  CV_Assert(image.cols == width);
+  cv::hconcat(image.colRange(width - half, width), image.colRange(start, start + half), strip);
+}
 
 void detect_across_seam(const DetectorImages& images, const ImageGeometry& geometry,
                         const std::vector<std::unique_ptr<MarkerDetector>>& detectors,
                         std::vector<Detection>& out) {
   const cv::Mat& image = images.image;
-  if (!geometry.full_circle() || image.cols != geometry.width || image.cols < 16) return;
-  const int width = image.cols;
-  const double turn = geometry.columns_per_turn();
-  // The first column that continues the last one: the image may hold one column twice (+-180
-  // degrees both present) or, for a turn of a fractional number of columns, overlap by a part.
-  const int start = std::clamp(static_cast<int>(std::lround(width - turn)), 0, width / 4);
-  const int half = std::max(8, width / 8);
-  // Each image's strip (empty for an empty one).
+  const std::optional<SeamStrip> seam_strip = SeamStrip::of(geometry);
+  if (!seam_strip || image.cols != geometry.width) return;
+  const SeamStrip& cut = *seam_strip;
   thread_local DetectorImages strip;
-  const auto strip_of = [&](const cv::Mat& from, cv::Mat& to) {
-    if (from.empty()) {
-      to.release();
-    } else {
-      cv::hconcat(from.colRange(width - half, width), from.colRange(start, start + half), to);
-    }
-  };
-  strip_of(image, strip.image);
-  strip_of(images.gray.size() == image.size() ? images.gray : cv::Mat(), strip.gray);
-  strip_of(images.valid.size() == image.size() ? images.valid : cv::Mat(), strip.valid);
-  strip.crossing_column = half;  // only what crosses the seam is kept below
+  cut.cut(image, strip.image);
+  cut.cut(images.gray.size() == image.size() ? images.gray : cv::Mat(), strip.gray);
+  cut.cut(images.valid.size() == image.size() ? images.valid : cv::Mat(), strip.valid);
+  strip.crossing_column = cut.half;  // only what crosses the seam is kept below
 
-  // Strip coordinate x to the image's continuous column: the left half is the image's end, the
-  // right half its start one turn on (column c points where column c + turn does).
-  const auto image_u = [&](double x) {
-    return x < half - 0.5 ? width - half + x : x - half + start + turn;
-  };
   const std::size_t own = out.size();  // the image's own detections
+  std::vector<bool> drop(own, false);  // those found whole across the seam
   std::vector<Detection> found;
   for (const auto& detector : detectors) detector->detect_images(strip, found);
   for (Detection& d : found) {
@@ -63,9 +74,15 @@ void detect_across_seam(const DetectorImages& images, const ImageGeometry& geome
       lo = std::min(lo, p->x());
       hi = std::max(hi, p->x());
     }
-    const double seam = half - 0.5;
+    const double seam = cut.seam();
     if (lo < seam && hi >= seam) {
-      for (Vec2* p : points) p->x() = image_u(p->x());
+      for (Vec2* p : points) p->x() = cut.image_u(p->x());
+      // The image may also hold a cut-off reading of it (libapriltag decoded a 1 m tag on a
+      // VLP-16 from the columns after the seam, its quad short of the border): the whole one wins.
+      for (std::size_t i = 0; i < own; ++i)
+        if (!drop[i] && out[i].family == d.family && out[i].id == d.id &&
+            outline_overlap(shifted(out[i], cut.turn), d) >= kSameMarkerOverlap)
+          drop[i] = true;
       out.push_back(std::move(d));
       continue;
     }
@@ -73,15 +90,20 @@ void detect_across_seam(const DetectorImages& images, const ImageGeometry& geome
     // detector's neighbourhood: the image itself may have missed it (an OS1-64's 40 cm tag at 2 m
     // with its border 0.3 degrees from the seam was found in neither). Kept in the image's own
     // columns, unless the image found it.
-    const bool left = hi < seam;
-    const double gap = left ? seam - hi : lo - seam;
-    if (gap > kNearSeamShare * (hi - lo) + kNearSeamPx) continue;
-    for (Vec2* p : points) p->x() = left ? width - half + p->x() : p->x() - half + start;
+    if (!near_seam(lo, hi, seam)) continue;
+    for (Vec2* p : points) p->x() = cut.own_u(p->x());
     const bool known = std::any_of(
         out.begin(), out.begin() + static_cast<std::ptrdiff_t>(own),
         [&](const Detection& o) { return outline_overlap(o, d) >= kSameMarkerOverlap; });
     if (!known) out.push_back(std::move(d));
   }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (i < own && drop[i]) continue;
+    if (kept != i) out[kept] = std::move(out[i]);
+    ++kept;
+  }
+  out.resize(kept);
 }
 
 }  // namespace iilfm
