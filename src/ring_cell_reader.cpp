@@ -61,6 +61,9 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   if (!(area > 1e-12)) return;
   const cv::Matx33d cell_to_tangent = cv::getPerspectiveTransform(square, quad);
   quad_ = quad;
+  view_ = frame.d;
+  right_ = frame.right;
+  up_ = frame.up;
   start_ = book.border_start();
   n_ = book.border_width();
   cell_height_ = std::sqrt(area) / book.border_width();  // whatever the quad's turn
@@ -71,6 +74,7 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   const double lo = -start_ - 1, hi = book.total_width() - start_ + 1;
   const double u_corners =
       0.25 * (corners_px[0].x() + corners_px[1].x() + corners_px[2].x() + corners_px[3].x());
+  u_corners_ = u_corners;
   double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
   for (const auto& [x, y] : {std::pair{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}) {
     const cv::Point2d t = apply(cell_to_tangent, x, y);
@@ -157,6 +161,24 @@ cv::Matx33d shifted_tangent_to_cell(const std::vector<cv::Point2f>& corners, flo
 }
 
 }  // namespace
+
+std::array<Vec2, 4> MarkerSamples::corners_at(double shift_top, double shift_bottom,
+                                              const ImageGeometry& g) const {
+  std::array<Vec2, 4> corners;
+  if (quad_.size() != 4) return corners;
+  const TangentFrame frame{view_, right_, up_};
+  // The corners above the quad's middle form its top, as in shifted_tangent_to_cell.
+  const float middle = 0.25f * (quad_[0].y + quad_[1].y + quad_[2].y + quad_[3].y);
+  for (int k = 0; k < 4; ++k) {
+    const double shift = quad_[k].y < middle ? shift_top : shift_bottom;
+    const Vec2 t(quad_[k].x, quad_[k].y + shift * cell_height_);
+    corners[k] = g.pixel_of_point(frame.ray(t));
+    if (g.full_circle())
+      corners[k].x() +=
+          std::round((u_corners_ - corners[k].x()) / g.columns_per_turn()) * g.columns_per_turn();
+  }
+  return corners;
+}
 
 void MarkerSamples::place(double shift_top, double shift_bottom, std::vector<Placed>& out) const {
   out.clear();

@@ -81,6 +81,12 @@ class MarkerSamples {
   MarkerSamples fixed_cell_samples(ShiftRange top, ShiftRange bottom, const CellCodeBook& book,
                                    double central_fraction) const;
 
+  // The black square's corners in the projected image of geometry `g` (the one the samples came
+  // from) at the placing (shift_top, shift_bottom), in the order and on the side of a full-circle
+  // image's seam of the corners given.
+  std::array<Vec2, 4> corners_at(double shift_top, double shift_bottom,
+                                 const ImageGeometry& g) const;
+
  private:
   // Each cell's sum and count of the samples in its middle `central_fraction` at the placing, and
   // the fixed cells' samples as black and white levels, into `scratch`; the data cells' only with
@@ -98,6 +104,8 @@ class MarkerSamples {
   std::vector<double> a_, b_;
   std::vector<float> intensity_;
   std::vector<cv::Point2f> quad_;  // the corners in the tangent plane
+  Vec3 view_, right_, up_;         // the tangent plane's normal and axes
+  double u_corners_ = 0;           // the given corners' mean column
   double cell_height_ = 0;         // tangent units per cell along b
   double start_ = 0;               // printed cell of the black square's corner
   int n_ = 0;                      // cells across the black square

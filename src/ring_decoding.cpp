@@ -240,6 +240,7 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   if (candidate)
     resolve_tied_placings(book, samples, read_options, best, limits(family),
                           settings_.candidate_min_security_bits, out);
+  out.corners_px = samples.corners_at(out.shift_top, out.shift_bottom, image.geometry);
   return out;
 }
 
@@ -330,7 +331,9 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       best.id = r.decoded.id;
       best.hamming = r.decoded.errors;
       best.decision_margin = security_bits;
-      best.corners_px.assign(projected.begin(), projected.end());
+      // Where the fixed cells read best: a side found in the binary image may lie up to half a
+      // ring spacing off the square (ULTRA Puck, 1 m tag at 3 m: corners 38 mm off).
+      best.corners_px.assign(r.corners_px.begin(), r.corners_px.end());
       std::rotate(best.corners_px.begin(), best.corners_px.begin() + r.decoded.quarter_turns,
                   best.corners_px.end());
     }

@@ -47,6 +47,8 @@ struct RingRead {
   CellReading cells;
   DecodeResult decoded;
   double shift_top = 0, shift_bottom = 0;  // cells, down positive
+  // The square's corners at that placing (projected image, in the order of the corners read).
+  std::array<Vec2, 4> corners_px;
 };
 
 enum class RingVerdict {
