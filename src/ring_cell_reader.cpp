@@ -72,16 +72,15 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   // on the corners' side of a full-circle image's seam (a quad across it has corners past the
   // last column).
   const double lo = -start_ - 1, hi = book.total_width() - start_ + 1;
-  const double u_corners =
+  u_corners_ =
       0.25 * (corners_px[0].x() + corners_px[1].x() + corners_px[2].x() + corners_px[3].x());
-  u_corners_ = u_corners;
   double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
   for (const auto& [x, y] : {std::pair{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}) {
     const cv::Point2d t = apply(cell_to_tangent, x, y);
     const Vec2 px = g.pixel_of_point(frame.ray(Vec2(t.x, t.y)));
     double u = px.x();
     if (g.full_circle())
-      u += std::round((u_corners - u) / g.columns_per_turn()) * g.columns_per_turn();
+      u += std::round((u_corners_ - u) / g.columns_per_turn()) * g.columns_per_turn();
     u_min = std::min(u_min, u);
     u_max = std::max(u_max, u);
     v_min = std::min(v_min, px.y());
@@ -165,6 +164,7 @@ cv::Matx33d shifted_tangent_to_cell(const std::vector<cv::Point2f>& corners, flo
 std::array<Vec2, 4> MarkerSamples::corners_at(double shift_top, double shift_bottom,
                                               const ImageGeometry& g) const {
   std::array<Vec2, 4> corners;
+  corners.fill(Vec2::Zero());
   if (quad_.size() != 4) return corners;
   const TangentFrame frame{view_, right_, up_};
   // The corners above the quad's middle form its top, as in shifted_tangent_to_cell.

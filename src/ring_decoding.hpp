@@ -48,7 +48,7 @@ struct RingRead {
   DecodeResult decoded;
   double shift_top = 0, shift_bottom = 0;  // cells, down positive
   // The square's corners at that placing (projected image, in the order of the corners read).
-  std::array<Vec2, 4> corners_px;
+  std::array<Vec2, 4> corners_px = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
 };
 
 enum class RingVerdict {
