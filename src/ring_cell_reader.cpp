@@ -23,6 +23,13 @@ struct TangentFrame {
   Vec3 ray(const Vec2& t) const { return (d + t.x() * right - t.y() * up).normalized(); }
 };
 
+// Column `u` moved by whole turns of a full-circle image to lie nearest `reference` (a quad across
+// the seam has columns past the last one); `u` itself otherwise.
+double column_near(const ImageGeometry& g, double u, double reference) {
+  if (!g.full_circle()) return u;
+  return u + std::round((reference - u) / g.columns_per_turn()) * g.columns_per_turn();
+}
+
 cv::Point2d apply(const cv::Matx33d& H, double x, double y) {
   const cv::Vec3d p = H * cv::Vec3d(x, y, 1);
   return {p[0] / p[2], p[1] / p[2]};
@@ -78,9 +85,7 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   for (const auto& [x, y] : {std::pair{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}) {
     const cv::Point2d t = apply(cell_to_tangent, x, y);
     const Vec2 px = g.pixel_of_point(frame.ray(Vec2(t.x, t.y)));
-    double u = px.x();
-    if (g.full_circle())
-      u += std::round((u_corners_ - u) / g.columns_per_turn()) * g.columns_per_turn();
+    const double u = column_near(g, px.x(), u_corners_);
     u_min = std::min(u_min, u);
     u_max = std::max(u_max, u);
     v_min = std::min(v_min, px.y());
@@ -173,9 +178,7 @@ std::array<Vec2, 4> MarkerSamples::corners_at(double shift_top, double shift_bot
     const double shift = quad_[k].y < middle ? shift_top : shift_bottom;
     const Vec2 t(quad_[k].x, quad_[k].y + shift * cell_height_);
     corners[k] = g.pixel_of_point(frame.ray(t));
-    if (g.full_circle())
-      corners[k].x() +=
-          std::round((u_corners_ - corners[k].x()) / g.columns_per_turn()) * g.columns_per_turn();
+    corners[k].x() = column_near(g, corners[k].x(), u_corners_);
   }
   return corners;
 }

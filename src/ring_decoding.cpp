@@ -358,19 +358,14 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   if (!cut || detect_gray.cols != detect_geometry.width) return;
   thread_local cv::Mat strip;
   cut->cut(detect_gray, strip);
+  std::vector<Vec2*> keypoints;
   for (const std::array<Vec2, 4>& quad : dark_quads(strip, min_side_px, min_cells)) {
     corners.assign(quad.begin(), quad.end());
     push_edges_outward(corners);
-    double lo = corners[0].x(), hi = lo;
-    for (const Vec2& p : corners) {
-      lo = std::min(lo, p.x());
-      hi = std::max(hi, p.x());
-    }
-    const double seam = cut->seam();
-    const bool across = lo < seam && hi >= seam;
-    if (!across && !near_seam(lo, hi, seam)) continue;
     detect_corners = corners;
-    for (Vec2& p : detect_corners) p.x() = across ? cut->image_u(p.x()) : cut->own_u(p.x());
+    keypoints.clear();
+    for (Vec2& p : detect_corners) keypoints.push_back(&p);
+    if (cut->place(keypoints) == SeamStrip::Place::kAway) continue;
     read_quad(corners, strip, detect_corners);
   }
 }

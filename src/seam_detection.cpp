@@ -21,9 +21,22 @@ Detection shifted(const Detection& d, double du) {
 
 }  // namespace
 
-bool near_seam(double lo, double hi, double seam) {
-  const double gap = hi < seam ? seam - hi : lo - seam;
-  return gap <= 0.5 * (hi - lo) + 8;
+SeamStrip::Place SeamStrip::place(const std::vector<Vec2*>& points) const {
+  if (points.empty()) return Place::kAway;
+  double lo = points[0]->x(), hi = lo;
+  for (const Vec2* p : points) {
+    lo = std::min(lo, p->x());
+    hi = std::max(hi, p->x());
+  }
+  const double at = seam();
+  if (lo < at && hi >= at) {
+    for (Vec2* p : points) p->x() = image_u(p->x());
+    return Place::kAcross;
+  }
+  const double gap = hi < at ? at - hi : lo - at;
+  if (gap > 0.5 * (hi - lo) + 8) return Place::kAway;
+  for (Vec2* p : points) p->x() = own_u(p->x());
+  return Place::kNear;
 }
 
 std::optional<SeamStrip> SeamStrip::of(const ImageGeometry& geometry) {
@@ -68,15 +81,9 @@ void detect_across_seam(const DetectorImages& images, const ImageGeometry& geome
     std::vector<Vec2*> points;
     for (Vec2& p : d.corners_px) points.push_back(&p);
     for (Vec2& p : d.outline_px) points.push_back(&p);
-    if (points.empty()) continue;
-    double lo = points[0]->x(), hi = lo;
-    for (const Vec2* p : points) {
-      lo = std::min(lo, p->x());
-      hi = std::max(hi, p->x());
-    }
-    const double seam = cut.seam();
-    if (lo < seam && hi >= seam) {
-      for (Vec2* p : points) p->x() = cut.image_u(p->x());
+    const SeamStrip::Place place = cut.place(points);
+    if (place == SeamStrip::Place::kAway) continue;
+    if (place == SeamStrip::Place::kAcross) {
       // The image may also hold a cut-off reading of it (libapriltag decoded a 1 m tag on a
       // VLP-16 from the columns after the seam, its quad short of the border): the whole one wins.
       for (std::size_t i = 0; i < own; ++i)
@@ -86,12 +93,8 @@ void detect_across_seam(const DetectorImages& images, const ImageGeometry& geome
       out.push_back(std::move(d));
       continue;
     }
-    // Wholly on one side but near the seam, where the image's edge cut its white margin or the
-    // detector's neighbourhood: the image itself may have missed it (an OS1-64's 40 cm tag at 2 m
-    // with its border 0.3 degrees from the seam was found in neither). Kept in the image's own
-    // columns, unless the image found it.
-    if (!near_seam(lo, hi, seam)) continue;
-    for (Vec2* p : points) p->x() = cut.own_u(p->x());
+    // Near the seam on one side: kept in the image's own columns, unless the image found it (an
+    // OS1-64's 40 cm tag at 2 m with its border 0.3 degrees from the seam was found in neither).
     const bool known = std::any_of(
         out.begin(), out.begin() + static_cast<std::ptrdiff_t>(own),
         [&](const Detection& o) { return outline_overlap(o, d) >= kSameMarkerOverlap; });

@@ -35,14 +35,20 @@ struct SeamStrip {
   double image_u(double x) const { return x < seam() ? width - half + x : x - half + start + turn; }
   // The same, but the right half at its own columns.
   double own_u(double x) const { return x < seam() ? width - half + x : x - half + start; }
-};
 
-// Whether a marker whose keypoints span strip columns lo..hi, wholly on one side of the seam at
-// strip column `seam`, lies near it: within half its width and a few pixels, where the image's
-// edge cuts its white margin or a detector's neighbourhood (a detector reads about a quarter of
-// the width beyond the border and thresholds over a few pixels more), so that the image itself
-// may miss it.
-bool near_seam(double lo, double hi, double seam);
+  // Where a marker whose keypoints are `points` (strip coordinates) lies, and those keypoints
+  // moved to the image's columns accordingly:
+  enum class Place {
+    kAcross,  // on both sides of the seam: moved by image_u, past the last column
+    // wholly on one side but near the seam (within half its width and a few pixels), where the
+    // image's edge cuts its white margin or a detector's neighbourhood (a detector reads about a
+    // quarter of the width beyond the border and thresholds over a few pixels more), so that the
+    // image itself may miss it: moved by own_u
+    kNear,
+    kAway,  // farther: left as they are (the image holds it whole)
+  };
+  Place place(const std::vector<Vec2*>& points) const;
+};
 
 // Runs the detectors on a strip made of the images' last and first columns side by side (an
 // eighth of a turn from each side) and appends the markers that straddle the seam, their
