@@ -367,6 +367,65 @@ Plane robust_plane(detail::FitPoints& fit, const PlaneFitOptions& options, doubl
   return plane;
 }
 
+// Whether a ring that is off the marker's own plane still holds the marker. That plane may be the
+// one at fault: a marker crossed by few scan lines (a VLP-16's 17 cm tag at 1 m spans four rings)
+// can fit a plane tilted by many degrees, off which its flat wall then seems to lie. So the ring is
+// judged on its own plane. It must be planar (the share of its points within its band that the
+// coplanar test asks for), and the marker must lie on it: its own plane's tilt from the ring's
+// within its uncertainty (a sheet turned away from its wall is not), the same share of its points
+// within the band, and their mean offset within 3 standard errors and 3 mm (a sheet standing proud
+// keeps its own plane). When it holds, `offsets_all` holds every point's distance from the ring's
+// plane and `ring_band` that plane's band.
+bool ring_holds_the_marker(const detail::FitPoints& points, const std::uint8_t* label,
+                           std::uint8_t first_label, std::uint8_t last_label,
+                           std::uint8_t marker_label, const Plane& own,
+                           const PlaneFitOptions& options, detail::Buffer<double>& offsets_all,
+                           double& ring_band) {
+  thread_local detail::FitPoints ring;
+  detail::keep_labelled(points, label, first_label, last_label, ring);
+  const std::size_t ring_points = ring.size();
+  double band = 0;
+  const Plane wall = robust_plane(ring, options, &band);
+  if (!wall.ok) return false;
+  // The marker's own tilt from the ring's plane, in its own slopes' uncertainty (chi-square, two
+  // degrees of freedom). Chance draws on four rings reach 16-26 (the VLP-16 sweep, the tests); a
+  // sheet turned 10 degrees from its wall, seen with 5 mm noise, gives 355.
+  constexpr double kMaxTiltChiSquare = 30;
+  const double along = std::abs(wall.normal.dot(own.normal));
+  const double slope1 = wall.normal.dot(own.axis1) / along;
+  const double slope2 = wall.normal.dot(own.axis2) / along;
+  const double tilt_chi_square =
+      slope1 * slope1 / own.slope_variance(0) + slope2 * slope2 / own.slope_variance(1);
+  if (!(tilt_chi_square <= kMaxTiltChiSquare)) return false;
+  detail::plane_residuals(points, wall.normal, wall.d, offsets_all.data());
+  std::size_t ring_close = 0, marker_points = 0, marker_close = 0;
+  double sum = 0, sum_sq = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool close = offsets_all[i] <= band;
+    if (label[i] == marker_label) {
+      const double offset = wall.normal.dot(Vec3(points.x[i], points.y[i], points.z[i])) - wall.d;
+      sum += offset;
+      sum_sq += offset * offset;
+      ++marker_points;
+      marker_close += close;
+    } else if (label[i] >= first_label && label[i] <= last_label) {
+      ring_close += close;
+    }
+  }
+  const auto share_close = [&](std::size_t close, std::size_t of) {
+    return static_cast<double>(close) >= options.min_coplanar_fraction * static_cast<double>(of);
+  };
+  if (marker_points < 2 || !share_close(ring_close, ring_points) ||
+      !share_close(marker_close, marker_points))
+    return false;
+  const double n = static_cast<double>(marker_points), mean = sum / n;
+  const double variance = std::max(0.0, (sum_sq - n * mean * mean) / (n - 1));
+  constexpr double kFlushSlackM = 0.003;
+  if (std::abs(mean) > 3 * std::sqrt(variance / n) + kFlushSlackM) return false;
+  ring_band = band;
+  return true;
+}
+
 std::vector<Vec2> scaled_about_centre(const std::vector<Vec2>& polygon, double scale) {
   Vec2 centre = Vec2::Zero();
   for (const Vec2& p : polygon) centre += p / static_cast<double>(polygon.size());
@@ -411,10 +470,13 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   thread_local detail::Buffer<double> offsets_all;
   thread_local std::vector<double> offsets;
   offsets_all.resize(points.size());
-  detail::plane_residuals(points, plane.normal, plane.d, offsets_all.data());
+  bool offsets_from_marker_plane = false;  // ring_holds_the_marker overwrites them
   for (std::size_t k = 0; k < scales.size(); ++k) {
     const auto first_label = static_cast<std::uint8_t>(k + 1);
     const auto last_label = static_cast<std::uint8_t>(marker_label - 1);
+    if (!offsets_from_marker_plane)
+      detail::plane_residuals(points, plane.normal, plane.d, offsets_all.data());
+    offsets_from_marker_plane = true;
     offsets.clear();
     std::size_t coplanar = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -423,12 +485,22 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
       offsets.push_back(offsets_all[i]);
     }
     if (offsets.size() < marker.size() / 2) continue;
-    if (coplanar < options.min_coplanar_fraction * static_cast<double>(offsets.size())) continue;
-    // Coplanar: take the ring's points within 4 of its own robust sigmas. The marker's band is
-    // too narrow for the ring when the ring's pixels average fewer returns (a rosette is densest
-    // at its centre): cutting the ring's tails about the marker's own, tilted plane pulls the
-    // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
-    const double ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
+    const double needed = options.min_coplanar_fraction * static_cast<double>(offsets.size());
+    // The ring's points within `ring_band` of the marker's plane (coplanar) or of the ring's own
+    // (ring_holds_the_marker) join the marker's for the wide fit.
+    double ring_band = 0;
+    if (coplanar >= needed) {
+      // Coplanar: take the ring's points within 4 of its own robust sigmas. The marker's band is
+      // too narrow for the ring when the ring's pixels average fewer returns (a rosette is densest
+      // at its centre): cutting the ring's tails about the marker's own, tilted plane pulls the
+      // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
+      ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
+    } else {
+      offsets_from_marker_plane = false;
+      if (!ring_holds_the_marker(points, label, first_label, last_label, marker_label, plane,
+                                 options, offsets_all, ring_band))
+        continue;
+    }
     all = marker;
     detail::append_labelled_within(points, label, first_label, last_label, offsets_all.data(),
                                    ring_band, all);

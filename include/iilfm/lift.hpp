@@ -71,7 +71,8 @@ struct PlaneFitOptions {
   double min_inlier_band_m = 0.01;  // inlier band is max(this, 3 robust sigmas)
   int iterations = 3;
   // Surrounds (the detected quad scaled about its centre) tried for a coplanar extension, largest
-  // first, and the share of their points that must lie on the marker's plane.
+  // first, and the share of their points that must lie on the marker's plane (or, when the
+  // marker's own plane is uncertain, on the surround's own plane, with the marker's points).
   std::vector<double> surround_scales = {3.0, 2.0};
   double min_coplanar_fraction = 0.9;
   // Threads gathering the points of a large surround (parts of at least 32k pixels): the same
@@ -81,7 +82,10 @@ struct PlaneFitOptions {
 };
 
 // Fits the marker's plane robustly to the observed pixels inside the detected polygon, then, when
-// the surround is coplanar with it, takes the normal from marker and surround together. A pixel
+// the surround is coplanar with it, takes the normal from marker and surround together. A surround
+// off that plane is still taken when it is planar and the marker lies on it: its points on the
+// surround's plane and its own plane's tilt from it within that tilt's uncertainty (a marker
+// crossed by few scan lines). A pixel
 // holding one point contributes that point; a pixel holding several contributes its mean range
 // along the pixel-centre ray, which is where a locally planar surface crosses that ray.
 Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage& image,

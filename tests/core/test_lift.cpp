@@ -150,6 +150,85 @@ TEST(MarkerPlane, ParallelSurroundSetsTheNormalButNotTheDepth) {
   EXPECT_NEAR(p.d * (p.normal.dot(kWallNormal) > 0 ? 1 : -1), -3.0, 0.005);
 }
 
+// A 17 cm marker at 1 m seen by a VLP-16-like sensor (0.2 x 2 deg pixels): four rows cross it.
+// The wall has Gaussian range noise; the marker's rows are offset by `row_offsets_m` (top row
+// first) on top of it: a sheet turned away from the wall, or a chance draw of noise that tilts a
+// plane fitted to four rows.
+struct FewRowsOnWall {
+  ProjectedImage image;
+  PointCloud cloud;
+  std::vector<Vec2> quad;
+
+  FewRowsOnWall(const std::vector<double>& row_offsets_m, double noise_m, unsigned seed) {
+    const ImageGeometry g =
+        geometry_for_bounds({-20 * kDeg, 20 * kDeg, -15 * kDeg, 15 * kDeg}, 0.2 * kDeg, 2 * kDeg);
+    const double cu = (g.width - 1) / 2.0, cv = (g.height - 1) / 2.0;  // cv: between two rows
+    quad = {Vec2(cu - 24.5, cv - 1.9), Vec2(cu + 24.5, cv - 1.9), Vec2(cu + 24.5, cv + 1.9),
+            Vec2(cu - 24.5, cv + 1.9)};
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0, noise_m);
+    const int top = static_cast<int>(std::ceil(cv - 1.9));
+    for (int r = 0; r < g.height; ++r)
+      for (int c = 0; c < g.width; ++c) {
+        const Vec3 ray = g.ray(c, r);
+        double t = -1.0 / kWallNormal.dot(ray) + noise(rng);
+        const auto row = static_cast<std::size_t>(r - top);
+        if (std::abs(c - cu) < 24.5 && r >= top && row < row_offsets_m.size())
+          t += row_offsets_m[row];
+        const Vec3 p = ray * t;
+        cloud.push_back(p.x(), p.y(), p.z(), 100);
+      }
+    ProjectionOptions opt;
+    opt.res_h_deg = 0.2;
+    opt.res_v_deg = 2;
+    SphericalProjector(opt).project(cloud, image);
+  }
+};
+
+double angle_to_wall(const Plane& p) {
+  return std::acos(std::min(1.0, std::abs(p.normal.dot(kWallNormal)))) / kDeg;
+}
+
+TEST(MarkerPlane, WallIsTakenWhenFewRowsTiltTheMarkersOwnPlane) {
+  // 2.5 cm noise (a VLP-16's) and the rows' mean offsets of a simulated VLP-16 sweep whose pose
+  // was 32 cm off: the marker's own plane tilts and the wall lies off it, but the marker's points
+  // lie within the wall's noise, and its tilt within a chance draw of it.
+  const std::vector<double> tilt = {-0.01, 0.0, 0.004, 0.012};
+  PlaneFitOptions marker_only;
+  marker_only.surround_scales.clear();
+  for (unsigned seed = 0; seed < 10; ++seed) {
+    const FewRowsOnWall scene(tilt, 0.025, seed);
+    const Plane own = fit_marker_plane(scene.quad, scene.image, scene.cloud, marker_only);
+    const Plane p = fit_marker_plane(scene.quad, scene.image, scene.cloud);
+    ASSERT_TRUE(own.ok && p.ok);
+    EXPECT_GT(angle_to_wall(own), 8) << seed;
+    EXPECT_EQ(p.surround_scale, 3.0) << seed;
+    EXPECT_LT(angle_to_wall(p), 1.0) << seed;
+  }
+}
+
+TEST(MarkerPlane, SheetTurnedFromItsWallKeepsItsOwnPlane) {
+  // 5 mm noise and a sheet turned 10 degrees about its middle: its points lie within the wall's
+  // band and its mean on the wall, but its own plane's tilt is far beyond its uncertainty.
+  const double slope = std::tan(10 * kDeg), row_z = std::tan(2 * kDeg);  // at 1 m
+  const FewRowsOnWall scene(
+      {-1.5 * row_z * slope, -0.5 * row_z * slope, 0.5 * row_z * slope, 1.5 * row_z * slope}, 0.005,
+      4);
+  const Plane p = fit_marker_plane(scene.quad, scene.image, scene.cloud);
+  ASSERT_TRUE(p.ok);
+  EXPECT_EQ(p.surround_scale, 1.0);
+  EXPECT_NEAR(angle_to_wall(p), 10, 3);
+}
+
+TEST(MarkerPlane, SheetProudOfItsWallKeepsItsOwnPlaneWhenTheWallIsOffIt) {
+  // A sheet 3 cm in front of the wall, 5 mm noise: parallel to the wall but not on it.
+  const FewRowsOnWall scene({-0.03, -0.03, -0.03, -0.03}, 0.005, 3);
+  const Plane p = fit_marker_plane(scene.quad, scene.image, scene.cloud);
+  ASSERT_TRUE(p.ok);
+  EXPECT_EQ(p.surround_scale, 1.0);
+  EXPECT_NEAR(angle_to_wall(p), 0, 3);
+}
+
 TEST(MarkerPlane, PointsGatheredOnThreadsGiveTheOneThreadPlane) {
   // PlaneFitOptions::threads: a 0.05 deg image of a noisy wall, pixels holding one to three points
   // (single-point pixels take their point from the cloud, the others their mean range), a quad
