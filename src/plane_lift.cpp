@@ -345,8 +345,11 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
 }
 
 // Least squares over `fit`, then refits without points farther than max(min band, 3 robust
-// sigmas). Leaves the final inliers in `fit`.
-Plane robust_plane(detail::FitPoints& fit, const PlaneFitOptions& options, double* band_out) {
+// sigmas). Leaves the final inliers in `fit`. The uncertainty (add_plane_uncertainty, a good part
+// of the cost) only when asked for.
+enum class Uncertainty { kWanted, kNotWanted };
+Plane robust_plane(detail::FitPoints& fit, const PlaneFitOptions& options, double* band_out,
+                   Uncertainty uncertainty = Uncertainty::kWanted) {
   if (fit.size() == 0) return Plane{};
   thread_local detail::FitPoints kept;
   const Vec3 first(fit.x[0], fit.y[0], fit.z[0]);
@@ -362,30 +365,46 @@ Plane robust_plane(detail::FitPoints& fit, const PlaneFitOptions& options, doubl
     std::swap(fit, kept);
     plane = plane_from_moments(Moments(detail::coordinate_sums(fit, plane.centre), plane.centre));
   }
-  add_plane_uncertainty(fit, plane);
+  if (uncertainty == Uncertainty::kWanted) add_plane_uncertainty(fit, plane);
   if (band_out) *band_out = band;
   return plane;
 }
 
-// Whether a ring that is off the marker's own plane still holds the marker. That plane may be the
-// one at fault: a marker crossed by few scan lines (a VLP-16's 17 cm tag at 1 m spans four rings)
-// can fit a plane tilted by many degrees, off which its flat wall then seems to lie. So the ring is
-// judged on its own plane. It must be planar (the share of its points within its band that the
-// coplanar test asks for), and the marker must lie on it: its own plane's tilt from the ring's
-// within its uncertainty (a sheet turned away from its wall is not), the same share of its points
-// within the band, and their mean offset within 3 standard errors and 3 mm (a sheet standing proud
-// keeps its own plane). When it holds, `offsets_all` holds every point's distance from the ring's
-// plane and `ring_band` that plane's band.
+// Whether a ring (labels first_label..last_label, `ring_points` of them) that is off the marker's
+// own plane still holds the marker. That plane may be the one at fault: a marker crossed by few
+// scan lines (a VLP-16's 17 cm tag at 1 m spans four rings) can fit a plane tilted by many degrees,
+// off which its flat wall then seems to lie. So the ring is judged on its own plane. It must be
+// planar (the share of its points within its band that the coplanar test asks for), and the marker
+// must lie on it: its own plane's tilt from the ring's within its uncertainty (a sheet turned away
+// from its wall is not), the same share of its points within the band, and their mean offset within
+// 3 standard errors and 3 mm (a sheet standing proud keeps its own plane). When it holds, `offsets`
+// holds every point's distance from the ring's plane and `ring_band` that plane's band.
 bool ring_holds_the_marker(const detail::FitPoints& points, const std::uint8_t* label,
                            std::uint8_t first_label, std::uint8_t last_label,
-                           std::uint8_t marker_label, const Plane& own,
-                           const PlaneFitOptions& options, detail::Buffer<double>& offsets_all,
+                           std::size_t ring_points, std::uint8_t marker_label, const Plane& own,
+                           const PlaneFitOptions& options, detail::Buffer<double>& offsets,
                            double& ring_band) {
+  // The ring's plane only has to be good enough to judge the marker by, and an evenly strided
+  // sample of at most 4096 of its points gives it at a fraction of the cost (a 3x surround on a
+  // dense image holds tens of thousands). Its band is a robust sigma, which the sample keeps.
+  constexpr std::size_t kMaxRingSample = 4096;
+  const std::size_t stride =
+      std::max<std::size_t>(1, (ring_points + kMaxRingSample - 1) / kMaxRingSample);
   thread_local detail::FitPoints ring;
-  detail::keep_labelled(points, label, first_label, last_label, ring);
-  const std::size_t ring_points = ring.size();
+  ring.resize(ring_points / stride + 1);
+  std::size_t kept = 0, skip = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (label[i] < first_label || label[i] > last_label) continue;
+    if (skip-- > 0) continue;
+    skip = stride - 1;
+    ring.x[kept] = points.x[i];
+    ring.y[kept] = points.y[i];
+    ring.z[kept] = points.z[i];
+    ++kept;
+  }
+  ring.resize(kept);
   double band = 0;
-  const Plane wall = robust_plane(ring, options, &band);
+  const Plane wall = robust_plane(ring, options, &band, Uncertainty::kNotWanted);
   if (!wall.ok) return false;
   // The marker's own tilt from the ring's plane, in its own slopes' uncertainty (chi-square, two
   // degrees of freedom). Chance draws on four rings reach 16-26 (the VLP-16 sweep, the tests); a
@@ -397,11 +416,12 @@ bool ring_holds_the_marker(const detail::FitPoints& points, const std::uint8_t* 
   const double tilt_chi_square =
       slope1 * slope1 / own.slope_variance(0) + slope2 * slope2 / own.slope_variance(1);
   if (!(tilt_chi_square <= kMaxTiltChiSquare)) return false;
-  detail::plane_residuals(points, wall.normal, wall.d, offsets_all.data());
+  offsets.resize(points.size());
+  detail::plane_residuals(points, wall.normal, wall.d, offsets.data());
   std::size_t ring_close = 0, marker_points = 0, marker_close = 0;
   double sum = 0, sum_sq = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const bool close = offsets_all[i] <= band;
+    const bool close = offsets[i] <= band;
     if (label[i] == marker_label) {
       const double offset = wall.normal.dot(Vec3(points.x[i], points.y[i], points.z[i])) - wall.d;
       sum += offset;
@@ -467,16 +487,13 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   // A printed sheet is flush with what it hangs on: when the surround is coplanar with the marker,
   // its points pin the normal down far better (more points, longer lever). Largest ring first;
   // surround k's ring holds the labels k + 1 up to the marker's, exclusive.
-  thread_local detail::Buffer<double> offsets_all;
+  thread_local detail::Buffer<double> offsets_all, offsets_from_ring;
   thread_local std::vector<double> offsets;
   offsets_all.resize(points.size());
-  bool offsets_from_marker_plane = false;  // ring_holds_the_marker overwrites them
+  detail::plane_residuals(points, plane.normal, plane.d, offsets_all.data());
   for (std::size_t k = 0; k < scales.size(); ++k) {
     const auto first_label = static_cast<std::uint8_t>(k + 1);
     const auto last_label = static_cast<std::uint8_t>(marker_label - 1);
-    if (!offsets_from_marker_plane)
-      detail::plane_residuals(points, plane.normal, plane.d, offsets_all.data());
-    offsets_from_marker_plane = true;
     offsets.clear();
     std::size_t coplanar = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -485,25 +502,25 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
       offsets.push_back(offsets_all[i]);
     }
     if (offsets.size() < marker.size() / 2) continue;
-    const double needed = options.min_coplanar_fraction * static_cast<double>(offsets.size());
     // The ring's points within `ring_band` of the marker's plane (coplanar) or of the ring's own
     // (ring_holds_the_marker) join the marker's for the wide fit.
+    const double* ring_offsets = offsets_all.data();
     double ring_band = 0;
-    if (coplanar >= needed) {
+    if (coplanar >= options.min_coplanar_fraction * static_cast<double>(offsets.size())) {
       // Coplanar: take the ring's points within 4 of its own robust sigmas. The marker's band is
       // too narrow for the ring when the ring's pixels average fewer returns (a rosette is densest
       // at its centre): cutting the ring's tails about the marker's own, tilted plane pulls the
       // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
       ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
+    } else if (ring_holds_the_marker(points, label, first_label, last_label, offsets.size(),
+                                     marker_label, plane, options, offsets_from_ring, ring_band)) {
+      ring_offsets = offsets_from_ring.data();
     } else {
-      offsets_from_marker_plane = false;
-      if (!ring_holds_the_marker(points, label, first_label, last_label, marker_label, plane,
-                                 options, offsets_all, ring_band))
-        continue;
+      continue;
     }
     all = marker;
-    detail::append_labelled_within(points, label, first_label, last_label, offsets_all.data(),
-                                   ring_band, all);
+    detail::append_labelled_within(points, label, first_label, last_label, ring_offsets, ring_band,
+                                   all);
     Plane wide = robust_plane(all, options, nullptr);
     if (!wide.ok) continue;
     // The normal from the wide fit; the offset from the marker's own points, so a sheet standing a
