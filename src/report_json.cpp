@@ -75,6 +75,16 @@ json marker_json(const MarkerResult& m, const ProjectedImage& image) {
               {"in_map", m.in_map},
               // Share of the marker's pixels that hold a point (before hole filling).
               {"coverage", round_to(marker_coverage(m.detection, image), 1e-3)}};
+  if (m.plane && m.plane->ok) {
+    // The fitted plane (plane lifting): normal . x = d_m in the LiDAR frame, and whether its
+    // normal came from the wall around the marker (surround_scale > 1) or the marker alone.
+    const Plane& p = *m.plane;
+    out["plane"] = {{"normal", vec_json(p.normal, 1e-7)},
+                    {"d_m", round_to(p.d, 1e-6)},
+                    {"points", p.inliers},
+                    {"rms_m", round_to(p.rms, 1e-6)},
+                    {"surround_scale", p.surround_scale}};
+  }
   if (m.T_lidar_marker) {
     out["T_lidar_marker"] = matrix_json(*m.T_lidar_marker);
     out["marker_fit_rms_m"] = round_to(m.marker_fit_rms, 1e-6);

@@ -121,7 +121,7 @@ std::shared_ptr<FrameResult> detached(const FrameResult& r) {
 struct Marker {
   std::string family;
   int id = 0;
-  py::object corners_px, corners_lidar, observed, T_lidar_marker;
+  py::object corners_px, corners_lidar, observed, T_lidar_marker, plane;
   double marker_fit_rms = 0, decision_margin = 0, coverage = 0;
   int hamming = 0;
   bool in_map = false;
@@ -175,6 +175,16 @@ Marker marker_of(const MarkerResult& m, const ProjectedImage& image) {
   out.in_map = m.in_map;
   out.turn_known = m.turn_known;
   out.coverage = marker_coverage(m.detection, image);
+  out.plane = py::none();
+  if (m.plane && m.plane->ok) {
+    py::dict plane;
+    plane["normal"] = to_numpy(m.plane->normal.transpose()).attr("ravel")();
+    plane["d"] = m.plane->d;
+    plane["points"] = m.plane->inliers;
+    plane["rms"] = m.plane->rms;
+    plane["surround_scale"] = m.plane->surround_scale;
+    out.plane = plane;
+  }
   return out;
 }
 
@@ -352,6 +362,11 @@ void register_pipeline(py::module_& m) {
       .def_readonly("in_map", &Marker::in_map, "the marker is in the marker map")
       .def_readonly("coverage", &Marker::coverage,
                     "share of the marker's image pixels holding a point (before hole filling)")
+      .def_readonly("plane", &Marker::plane,
+                    "the fitted marker plane (plane lifting), else None: a dict with normal "
+                    "((3,) float64) and d (normal . x = d in the LiDAR frame, metres), points, "
+                    "rms (metres) and surround_scale (> 1: the normal came from the wall around "
+                    "the marker, that many times its size)")
       .def("__repr__", [](const Marker& mk) {
         return "<iilfm.Marker " + mk.family + " id " + std::to_string(mk.id) + ">";
       });

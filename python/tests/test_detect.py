@@ -28,6 +28,11 @@ def assert_same_as_cli(result, cli):
         assert m.corners_px.shape == (4, 2) and m.corners_lidar.shape == (4, 3)
         assert m.T_lidar_marker.shape == (4, 4)
         assert m.turn_known and "turn_about_normal_known" not in theirs  # a square's turn is seen
+        # The plane lift's plane, as the JSON reports it (surround_scale 3: the grid's wall).
+        np.testing.assert_allclose(m.plane["normal"], theirs["plane"]["normal"], atol=0.6e-7)
+        assert abs(m.plane["d"] - theirs["plane"]["d_m"]) <= 0.6e-6
+        assert m.plane["points"] == theirs["plane"]["points"]
+        assert m.plane["surround_scale"] == theirs["plane"]["surround_scale"]
     np.testing.assert_allclose(result.pose.T_world_lidar, cli["pose"]["T_world_lidar"], atol=1e-9)
 
 

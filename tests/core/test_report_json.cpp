@@ -34,6 +34,27 @@ TEST(ReportJson, UnrecoverableCornerIsNullNeverZeros) {
   EXPECT_EQ(m["observed"], nlohmann::json({true, true, false, false}));
   EXPECT_TRUE(m["T_lidar_marker"].is_null());
   EXPECT_FALSE(m.contains("covariance"));
+  EXPECT_FALSE(m.contains("plane"));  // no plane was fitted (paper lifting)
+}
+
+TEST(ReportJson, FittedPlaneIsReportedWithWhereItsNormalCameFrom) {
+  FrameResult r = one_marker_with_a_lost_corner();
+  Plane p;
+  p.normal = Vec3(-1, 0, 0);
+  p.d = -2.0;
+  p.inliers = 1234;
+  p.rms = 0.0042;
+  p.surround_scale = 3;
+  p.ok = true;
+  r.markers[0].plane = p;
+  const nlohmann::json plane = result_to_json(r, InputInfo{})["markers"][0]["plane"];
+  EXPECT_EQ(plane["normal"], nlohmann::json({-1.0, 0.0, 0.0}));
+  EXPECT_EQ(plane["d_m"], -2.0);
+  EXPECT_EQ(plane["points"], 1234);
+  EXPECT_EQ(plane["rms_m"], 0.0042);
+  EXPECT_EQ(plane["surround_scale"], 3.0);
+  r.markers[0].plane->ok = false;  // a failed fit is not reported as a plane
+  EXPECT_FALSE(result_to_json(r, InputInfo{})["markers"][0].contains("plane"));
 }
 
 TEST(ReportJson, RefusedPoseIsNullWithTheReason) {
