@@ -177,6 +177,16 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
   out << "cloud: " << loaded.stats.valid_points << " valid of " << loaded.stats.points_in_file
       << " points; image " << g.width << "x" << g.height << ", threshold "
       << r.preprocessed.threshold << "\n";
+  if (r.preprocessed.replaced_threshold) {
+    out << "note: the threshold " << *r.preprocessed.replaced_threshold
+        << " lies above every intensity in the image (largest " << r.preprocessed.max_intensity
+        << "): the cloud's intensity is not on the sensor preset's scale, so Otsu's threshold "
+        << r.preprocessed.threshold << " was used (give --threshold to choose one)\n";
+  } else if (r.preprocessed.threshold_above_all) {
+    out << "warning: the threshold " << r.preprocessed.threshold
+        << " lies above every intensity in the image (largest " << r.preprocessed.max_intensity
+        << "), so no pixel is white; try --threshold otsu\n";
+  }
   out << r.markers.size() << " marker(s)\n";
   out << std::fixed << std::setprecision(3);
   for (const MarkerResult& m : r.markers) {

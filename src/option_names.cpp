@@ -85,6 +85,7 @@ void set_threshold(const std::string& text, PipelineOptions& options) {
     if (end == text.c_str() || *end != '\0' || !std::isfinite(t))
       throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + text + "'");
     options.preprocess.threshold = t;
+    options.preprocess.replace_threshold_above_all = false;  // the user's own number is kept
   }
 }
 

@@ -116,6 +116,12 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
                   {"observed_pixels", cv::countNonZero(result.image.mask)},
                   {"threshold", round_to(result.preprocessed.threshold, 1e-3)}};
   if (!input.resolution_source.empty()) out["image"]["resolution"] = input.resolution_source;
+  if (result.preprocessed.replaced_threshold) {
+    // The fixed threshold lay above every intensity: Otsu's was used instead.
+    out["image"]["threshold_replaced"] = {
+        {"given", round_to(*result.preprocessed.replaced_threshold, 1e-3)},
+        {"max_intensity", round_to(result.preprocessed.max_intensity, 1e-6)}};
+  }
   if (result.preprocessed.geometry.height != g.height) {
     out["image"]["detector_height"] = result.preprocessed.geometry.height;  // square pixels
   }

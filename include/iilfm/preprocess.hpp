@@ -20,6 +20,12 @@ struct PreprocessOptions {
   NormalisationOptions normalise;
   // Naive threshold in the cloud's intensity units; unset = Otsu's threshold over observed pixels.
   std::optional<double> threshold;
+  // When `threshold` lies above every observed intensity, no pixel can be white: the cloud's
+  // intensity is not on the scale the threshold was set for (reflectance in 0..1, as KITTI's files
+  // and many conversions hold it, against a preset's 0..255). Otsu's threshold is then used and
+  // PreprocessedImage::replaced_threshold says so. A preset's threshold may be replaced; one the
+  // user gives (set_threshold, Python threshold=) is kept.
+  bool replace_threshold_above_all = true;
   // Local threshold (`--threshold local`): a pixel is white when brighter than the mean of the
   // local_window x local_window pixels around it, wherever that window's intensity spread (standard
   // deviation) exceeds local_min_contrast of the 99th percentile of observed intensity; flat
@@ -64,6 +70,12 @@ struct PreprocessedImage {
   cv::Mat detect;        // CV_8U image handed to the detectors (binary unless binarize=false)
   cv::Mat valid;         // CV_8U 255 where observed or filled, 0 where still unobserved
   double threshold = 0;  // threshold applied, in intensity units
+  // Whether the fixed threshold lay above every observed intensity, that largest intensity (set
+  // whenever the threshold was above the 99th percentile), and the threshold when Otsu's replaced
+  // it (PreprocessOptions::replace_threshold_above_all).
+  bool threshold_above_all = false;
+  double max_intensity = 0;
+  std::optional<double> replaced_threshold;
   // Intensity mapped to gray 255: twice the 99th percentile of the observed intensity, so white
   // paper is not clipped where walls fill most of the image.
   double intensity_scale = 0;

@@ -69,6 +69,7 @@ PipelineOptions pipeline_options(const Options& a) {
       throw InputError("--threshold must be a number, 'otsu' or 'local', got '" +
                        py::str(a.threshold).cast<std::string>() + "'");
     options.preprocess.threshold = t;
+    options.preprocess.replace_threshold_above_all = false;
   }
   options.preprocess.binarize = !a.gray;
   options.preprocess.blur_sigma = a.blur;

@@ -267,6 +267,55 @@ TEST(Preprocess, OtsuSplitsTheTwoLevels) {
   EXPECT_EQ(out.detect.at<uchar>(3, 16), 255);
 }
 
+// The two-tone image with its intensity scaled from 0..255 to 0..1 (reflectance as KITTI's files
+// and many conversions hold it) against a preset's threshold of 40.
+ProjectedImage two_tone_in_unit_scale() {
+  ProjectedImage img = two_tone();
+  img.intensity /= 255.0;
+  return img;
+}
+
+TEST(Preprocess, ThresholdAboveEveryIntensityIsReplacedByOtsus) {
+  PreprocessOptions opt;
+  opt.threshold = 40;
+  PreprocessedImage out;
+  preprocess(two_tone_in_unit_scale(), opt, out);
+  ASSERT_TRUE(out.replaced_threshold.has_value());
+  EXPECT_EQ(*out.replaced_threshold, 40);
+  EXPECT_TRUE(out.threshold_above_all);
+  EXPECT_FLOAT_EQ(out.max_intensity, 120 / 255.0);
+  EXPECT_GT(out.threshold, 10 / 255.0);  // Otsu's, between the two levels
+  EXPECT_LT(out.threshold, 120 / 255.0);
+  EXPECT_EQ(out.detect.at<uchar>(3, 3), 0);
+  EXPECT_EQ(out.detect.at<uchar>(3, 16), 255);
+}
+
+TEST(Preprocess, ThresholdTheUserGaveIsKeptEvenAboveEveryIntensity) {
+  PreprocessOptions opt;
+  opt.threshold = 40;
+  opt.replace_threshold_above_all = false;
+  PreprocessedImage out;
+  preprocess(two_tone_in_unit_scale(), opt, out);
+  EXPECT_FALSE(out.replaced_threshold.has_value());
+  EXPECT_TRUE(out.threshold_above_all);  // reported, so the CLI can warn
+  EXPECT_EQ(out.threshold, 40);
+  EXPECT_EQ(out.detect.at<uchar>(3, 16), 0);  // nothing is white
+}
+
+TEST(Preprocess, ThresholdBelowSomeIntensityIsKeptInADarkImage) {
+  // A dark scene: 99 % of the pixels below the threshold, but one white pixel above it.
+  ProjectedImage img = uniform_image(20, 20, 10, 2);
+  img.intensity.at<float>(7, 7) = 90;
+  PreprocessOptions opt;
+  opt.threshold = 40;
+  PreprocessedImage out;
+  preprocess(img, opt, out);
+  EXPECT_FALSE(out.replaced_threshold.has_value());
+  EXPECT_FALSE(out.threshold_above_all);
+  EXPECT_EQ(out.threshold, 40);
+  EXPECT_EQ(out.detect.at<uchar>(7, 7), 255);
+}
+
 TEST(Preprocess, GrayModeKeepsLevels) {
   PreprocessOptions opt;
   opt.binarize = false;

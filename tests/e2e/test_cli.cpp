@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cli_run.hpp"
+#include "iilfm/io/cloud_io.hpp"
 
 namespace {
 
@@ -114,6 +115,45 @@ TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
   ASSERT_EQ(j["markers"].size(), 1u);
   ASSERT_TRUE(j["pose"].is_object());
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), 0.0, 0.1);
+}
+
+TEST(Cli, PresetThresholdAboveAUnitScaleCloudIsReplacedByOtsus) {
+  // A VLP-16 sweep written as a KITTI .bin with its intensity scaled to 0..1, as KITTI's own files
+  // hold reflectance: the preset's threshold of 40 would leave no pixel white.
+  const fs::path d = cli_temp_dir();
+  const std::string pcd = (d / "unit.pcd").string(), bin = (d / "unit.bin").string(),
+                    map = (d / "unit.yaml").string(), json = (d / "unit.json").string();
+  ASSERT_EQ(run_cli("sim --scene tag-wall --sensor vlp16 --marker-size 0.6 --distance 2 --out " +
+                    pcd + " --map " + map)
+                .status,
+            0);
+  const iilfm::PointCloud cloud = iilfm::io::read_cloud(pcd).cloud;
+  std::ofstream out(bin, std::ios::binary);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const float record[4] = {cloud.x[i], cloud.y[i], cloud.z[i], cloud.intensity[i] / 255.0f};
+    out.write(reinterpret_cast<const char*>(record), sizeof record);
+  }
+  out.close();
+
+  CliRun r = run_cli("detect " + bin + " --sensor vlp16 --map " + map + " --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("note: the threshold 40 lies above every intensity"), std::string::npos)
+      << r.out;
+  nlohmann::json j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["image"]["threshold_replaced"]["given"], 40.0);
+  EXPECT_LT(j["image"]["threshold_replaced"]["max_intensity"].get<double>(), 1.0);
+  EXPECT_LT(j["image"]["threshold"].get<double>(), 1.0);
+  ASSERT_EQ(j["markers"].size(), 1u);
+  EXPECT_TRUE(j["pose"].is_object());
+
+  // The user's own number is kept, with a warning.
+  r = run_cli("detect " + bin + " --sensor vlp16 --threshold 40 --map " + map + " --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("warning: the threshold 40 lies above every intensity"), std::string::npos)
+      << r.out;
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_FALSE(j["image"].contains("threshold_replaced"));
+  EXPECT_EQ(j["markers"].size(), 0u);
 }
 
 TEST(Cli, SpinningPresetTakesTheColumnsOfTheCloudsMode) {
