@@ -49,3 +49,21 @@ def test_cloud_columns_are_read_only_views_that_keep_the_cloud_alive():
     assert float(x[0]) == first
     with pytest.raises(ValueError):
         x[0] = 1.0
+
+
+def test_preset_threshold_above_a_unit_scale_cloud_is_replaced_but_a_given_one_is_kept(tmp_path):
+    # A VLP-16 sweep with its intensity scaled to 0..1 (KITTI's reflectance) against the
+    # preset's threshold of 40.
+    marker_map = tmp_path / "map.yaml"
+    cloud, _ = iilfm.simulate(scene="tag-wall", sensor="vlp16", marker_size=0.6, distance=2,
+                              map=str(marker_map))
+    xyzi = cloud.xyzi().copy()
+    xyzi[:, 3] /= 255.0
+    result = iilfm.Pipeline(sensor="vlp16", map=str(marker_map)).detect(xyzi)
+    assert [m.id for m in result.markers] == [0]
+    image = result.to_json()["image"]
+    assert image["threshold_replaced"]["given"] == 40
+    assert image["threshold"] < 1
+    kept = iilfm.Pipeline(sensor="vlp16", map=str(marker_map), threshold=40).detect(xyzi)
+    assert kept.markers == [] and kept.threshold == 40
+    assert "threshold_replaced" not in kept.to_json()["image"]
