@@ -183,11 +183,6 @@ IILFM_AVX2_CLONES void fill_holes(const cv::Mat& intensity, const cv::Mat& mask,
 // (docs/sensors.md, "Detection range": the Avia's 40 cm tag went from 10 to 18 m with 2).
 constexpr double kGrayHeadroom = 2.0;
 
-// The 99th percentile of observed values, so a few retro-reflectors do not darken everything
-// else. A grid of at most about 16k pixels (every 4th pixel of every 2nd row, sparser on large
-// images) is plenty for a percentile of a display scale (its rank within 0.2 % at two standard
-// errors) and keeps the selection off the frame's critical path: 74k values of a Mid-40 image took
-// 0.4 ms.
 // The largest intensity of the observed pixels (0 when there is none).
 double max_observed(const cv::Mat& intensity, const cv::Mat& mask) {
   double largest = 0;
@@ -195,6 +190,11 @@ double max_observed(const cv::Mat& intensity, const cv::Mat& mask) {
   return cv::countNonZero(mask) > 0 ? largest : 0;
 }
 
+// The 99th percentile of observed values, so a few retro-reflectors do not darken everything
+// else. A grid of at most about 16k pixels (every 4th pixel of every 2nd row, sparser on large
+// images) is plenty for a percentile of a display scale (its rank within 0.2 % at two standard
+// errors) and keeps the selection off the frame's critical path: 74k values of a Mid-40 image took
+// 0.4 ms.
 double percentile_99(const cv::Mat& intensity, const cv::Mat& mask) {
   constexpr double kMaxSampled = 16384;
   thread_local std::vector<float> values;  // reused: no allocation once warm
