@@ -93,6 +93,10 @@ nlohmann::json empty_result(const InputInfo& info) {
 
 struct Counts {
   std::size_t frames = 0, results = 0, with_markers = 0, with_pose = 0;
+  // Results whose fixed threshold lay above every intensity: replaced by Otsu's (a preset's), or
+  // kept (the user's); the last such threshold.
+  std::size_t threshold_replaced = 0, threshold_above_all = 0;
+  double threshold = 0;
 };
 
 // Whether this result is the one the report shows in full: the selected frame, else the latest
@@ -160,6 +164,13 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
         line = result_to_json(result, info);
         if (html && shown_in_full(args, *html, frame.index, !result.markers.empty()))
           html->show(HtmlFrame{&result, info, cloud}, counts.results);
+        if (result.preprocessed.replaced_threshold) {
+          ++counts.threshold_replaced;
+          counts.threshold = *result.preprocessed.replaced_threshold;
+        } else if (result.preprocessed.threshold_above_all) {
+          ++counts.threshold_above_all;
+          counts.threshold = result.preprocessed.threshold;
+        }
         if (!result.markers.empty()) ++counts.with_markers;
         if (result.pose) {
           ++counts.with_pose;
@@ -212,6 +223,18 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
         << source->name() << ": " << counts.results << " result(s), markers in "
         << counts.with_markers << ", LiDAR pose in " << counts.with_pose << "; " << std::fixed
         << std::setprecision(1) << progress.rate(counts.frames) << " frames/s" << std::endl;
+    out << std::defaultfloat << std::setprecision(6);
+    if (counts.threshold_replaced > 0)
+      out << "note: in " << counts.threshold_replaced << " result(s) the threshold "
+          << counts.threshold
+          << " lay above every intensity: the cloud's intensity is not on the sensor preset's "
+             "scale, so Otsu's threshold was used there (image.threshold_replaced; give "
+             "--threshold to choose one)"
+          << std::endl;
+    if (counts.threshold_above_all > 0)
+      out << "warning: in " << counts.threshold_above_all << " result(s) the threshold "
+          << counts.threshold
+          << " lay above every intensity, so no pixel was white; try --threshold otsu" << std::endl;
   }
   return 0;
 }

@@ -154,6 +154,24 @@ TEST(Cli, PresetThresholdAboveAUnitScaleCloudIsReplacedByOtsus) {
   j = nlohmann::json::parse(slurp(json));
   EXPECT_FALSE(j["image"].contains("threshold_replaced"));
   EXPECT_EQ(j["markers"].size(), 0u);
+
+  // A folder of such scans: every line says so, and the summary counts them.
+  const fs::path folder = d / "unit_frames";
+  fs::create_directories(folder);
+  for (const char* name : {"000000.bin", "000001.bin"}) fs::copy_file(bin, folder / name);
+  const std::string jsonl = (d / "unit.jsonl").string();
+  r = run_cli("detect " + folder.string() + " --sensor vlp16 --map " + map + " --jsonl " + jsonl);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("note: in 2 result(s) the threshold 40 lay above every intensity"),
+            std::string::npos)
+      << r.out;
+  std::istringstream lines(slurp(jsonl));
+  int replaced = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const nlohmann::json frame = nlohmann::json::parse(line);
+    replaced += frame["image"].contains("threshold_replaced") && frame["markers"].size() == 1;
+  }
+  EXPECT_EQ(replaced, 2);
 }
 
 TEST(Cli, SpinningPresetTakesTheColumnsOfTheCloudsMode) {
