@@ -177,7 +177,10 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
   out << "cloud: " << loaded.stats.valid_points << " valid of " << loaded.stats.points_in_file
       << " points; image " << g.width << "x" << g.height << ", threshold "
       << r.preprocessed.threshold << "\n";
-  if (r.preprocessed.replaced_threshold) {
+  if (r.preprocessed.no_intensity) {
+    out << "warning: every point's intensity is 0: the cloud carries none (no intensity, "
+           "reflectivity or i field?), and markers are seen in the intensity\n";
+  } else if (r.preprocessed.replaced_threshold) {
     out << "note: the threshold " << *r.preprocessed.replaced_threshold
         << " lies above every intensity in the image (largest " << r.preprocessed.max_intensity
         << "): the cloud's intensity is not on the sensor preset's scale, so Otsu's threshold "

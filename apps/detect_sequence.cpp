@@ -95,7 +95,7 @@ struct Counts {
   std::size_t frames = 0, results = 0, with_markers = 0, with_pose = 0;
   // Results whose fixed threshold lay above every intensity: replaced by Otsu's (a preset's), or
   // kept (the user's); the last such threshold.
-  std::size_t threshold_replaced = 0, threshold_above_all = 0;
+  std::size_t threshold_replaced = 0, threshold_above_all = 0, no_intensity = 0;
   double threshold = 0;
 };
 
@@ -164,7 +164,9 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
         line = result_to_json(result, info);
         if (html && shown_in_full(args, *html, frame.index, !result.markers.empty()))
           html->show(HtmlFrame{&result, info, cloud}, counts.results);
-        if (result.preprocessed.replaced_threshold) {
+        if (result.preprocessed.no_intensity) {
+          ++counts.no_intensity;
+        } else if (result.preprocessed.replaced_threshold) {
           ++counts.threshold_replaced;
           counts.threshold = *result.preprocessed.replaced_threshold;
         } else if (result.preprocessed.threshold_above_all) {
@@ -230,6 +232,11 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           << " lay above every intensity: the cloud's intensity is not on the sensor preset's "
              "scale, so Otsu's threshold was used there (image.threshold_replaced; give "
              "--threshold to choose one)"
+          << std::endl;
+    if (counts.no_intensity > 0)
+      out << "warning: in " << counts.no_intensity
+          << " result(s) every point's intensity was 0: the cloud carries none (no intensity, "
+             "reflectivity or i field?), and markers are seen in the intensity"
           << std::endl;
     if (counts.threshold_above_all > 0)
       out << "warning: in " << counts.threshold_above_all << " result(s) the threshold "

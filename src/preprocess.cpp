@@ -419,16 +419,20 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   };
   if (naive) out.detect.create(filled.size(), CV_8U);
   // A fixed threshold above every observed intensity would leave the detectors a black image
-  // (PreprocessOptions::replace_threshold_above_all). The 99th percentile, already known, rules
-  // that out for nearly every frame before the image is scanned for its largest value.
+  // (PreprocessOptions::replace_threshold_above_all), and a cloud whose intensity is 0 throughout
+  // carries none to see markers in. The 99th percentile, already known, rules both out for nearly
+  // every frame before the image is scanned for its largest value.
   std::optional<double> fixed = options.threshold;
   out.replaced_threshold.reset();
   out.threshold_above_all = false;
+  out.no_intensity = false;
   out.max_intensity = 0;
-  if (fixed && percentile <= *fixed) {
+  constexpr double kLeastPercentile = 1e-6;  // percentile_99's floor
+  if ((fixed && percentile <= *fixed) || percentile <= kLeastPercentile) {
     out.max_intensity = max_observed(*source, image.mask);
-    out.threshold_above_all = out.max_intensity <= *fixed;
-    if (out.threshold_above_all && options.replace_threshold_above_all) {
+    out.no_intensity = out.max_intensity <= 0;
+    out.threshold_above_all = fixed && out.max_intensity <= *fixed;
+    if (out.threshold_above_all && options.replace_threshold_above_all && !out.no_intensity) {
       out.replaced_threshold = *fixed;
       fixed.reset();
     }

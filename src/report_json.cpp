@@ -116,6 +116,7 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
                   {"observed_pixels", cv::countNonZero(result.image.mask)},
                   {"threshold", round_to(result.preprocessed.threshold, 1e-3)}};
   if (!input.resolution_source.empty()) out["image"]["resolution"] = input.resolution_source;
+  if (result.preprocessed.no_intensity) out["image"]["no_intensity"] = true;  // all 0
   if (result.preprocessed.replaced_threshold) {
     // The fixed threshold lay above every intensity: Otsu's was used instead.
     out["image"]["threshold_replaced"] = {

@@ -76,6 +76,9 @@ struct PreprocessedImage {
   bool threshold_above_all = false;
   double max_intensity = 0;
   std::optional<double> replaced_threshold;
+  // Every observed intensity is 0 (or below): the cloud carries no intensity (no intensity,
+  // reflectivity or i field), so no threshold can show a marker.
+  bool no_intensity = false;
   // Intensity mapped to gray 255: twice the 99th percentile of the observed intensity, so white
   // paper is not clipped where walls fill most of the image.
   double intensity_scale = 0;

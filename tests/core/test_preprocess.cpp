@@ -316,6 +316,23 @@ TEST(Preprocess, ThresholdBelowSomeIntensityIsKeptInADarkImage) {
   EXPECT_EQ(out.detect.at<uchar>(7, 7), 255);
 }
 
+TEST(Preprocess, CloudWithoutIntensityIsSaidToCarryNone) {
+  // Every intensity 0 (a cloud without an intensity field), with a preset's threshold and with
+  // Otsu's: no threshold can show a marker, and nothing is replaced.
+  for (const std::optional<double> threshold :
+       {std::optional<double>(40), std::optional<double>()}) {
+    PreprocessOptions opt;
+    opt.threshold = threshold;
+    PreprocessedImage out;
+    preprocess(uniform_image(20, 20, 0, 2), opt, out);
+    EXPECT_TRUE(out.no_intensity);
+    EXPECT_FALSE(out.replaced_threshold.has_value());
+  }
+  PreprocessedImage lit;
+  preprocess(two_tone(), PreprocessOptions{}, lit);
+  EXPECT_FALSE(lit.no_intensity);
+}
+
 TEST(Preprocess, GrayModeKeepsLevels) {
   PreprocessOptions opt;
   opt.binarize = false;

@@ -117,7 +117,7 @@ TEST(Cli, DetectWithoutASensorEstimatesTheResolution) {
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(j["pose"]["xyz"][a].get<double>(), 0.0, 0.1);
 }
 
-TEST(Cli, PresetThresholdAboveAUnitScaleCloudIsReplacedByOtsus) {
+TEST(Cli, IntensityOffThePresetsScaleOrMissingIsHandledAndSaid) {
   // A VLP-16 sweep written as a KITTI .bin with its intensity scaled to 0..1, as KITTI's own files
   // hold reflectance: the preset's threshold of 40 would leave no pixel white.
   const fs::path d = cli_temp_dir();
@@ -154,6 +154,21 @@ TEST(Cli, PresetThresholdAboveAUnitScaleCloudIsReplacedByOtsus) {
   j = nlohmann::json::parse(slurp(json));
   EXPECT_FALSE(j["image"].contains("threshold_replaced"));
   EXPECT_EQ(j["markers"].size(), 0u);
+
+  // Without intensity (every value 0): a warning, not a replaced threshold.
+  const std::string dark = (d / "dark.bin").string();
+  std::ofstream dark_out(dark, std::ios::binary);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const float record[4] = {cloud.x[i], cloud.y[i], cloud.z[i], 0.0f};
+    dark_out.write(reinterpret_cast<const char*>(record), sizeof record);
+  }
+  dark_out.close();
+  r = run_cli("detect " + dark + " --sensor vlp16 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("warning: every point's intensity is 0"), std::string::npos) << r.out;
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["image"]["no_intensity"], true);
+  EXPECT_FALSE(j["image"].contains("threshold_replaced"));
 
   // A folder of such scans: every line says so, and the summary counts them.
   const fs::path folder = d / "unit_frames";
