@@ -395,7 +395,10 @@ bool ring_holds_the_marker(const detail::FitPoints& points, const std::uint8_t* 
   std::size_t kept = 0, skip = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (label[i] < first_label || label[i] > last_label) continue;
-    if (skip-- > 0) continue;
+    if (skip > 0) {
+      --skip;
+      continue;
+    }
     skip = stride - 1;
     ring.x[kept] = points.x[i];
     ring.y[kept] = points.y[i];
