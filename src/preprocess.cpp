@@ -195,6 +195,8 @@ double max_observed(const cv::Mat& intensity, const cv::Mat& mask) {
 // images) is plenty for a percentile of a display scale (its rank within 0.2 % at two standard
 // errors) and keeps the selection off the frame's critical path: 74k values of a Mid-40 image took
 // 0.4 ms.
+constexpr double kLeastPercentile = 1e-6;  // percentile_99's floor: a scale never 0
+
 double percentile_99(const cv::Mat& intensity, const cv::Mat& mask) {
   constexpr double kMaxSampled = 16384;
   thread_local std::vector<float> values;  // reused: no allocation once warm
@@ -219,7 +221,7 @@ double percentile_99(const cv::Mat& intensity, const cv::Mat& mask) {
   if (values.empty()) return 1.0;
   const std::size_t k = (values.size() * 99) / 100;
   std::nth_element(values.begin(), values.begin() + k, values.end());
-  return std::max(1e-6, static_cast<double>(values[k]));
+  return std::max(kLeastPercentile, static_cast<double>(values[k]));
 }
 
 // Otsu's threshold over the observed gray values, returned in intensity units. A row that
@@ -427,7 +429,6 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   out.threshold_above_all = false;
   out.no_intensity = false;
   out.max_intensity = 0;
-  constexpr double kLeastPercentile = 1e-6;  // percentile_99's floor
   if ((fixed && percentile <= *fixed) || percentile <= kLeastPercentile) {
     out.max_intensity = max_observed(*source, image.mask);
     out.no_intensity = out.max_intensity <= 0;
