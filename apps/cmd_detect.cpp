@@ -190,6 +190,13 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
         << " lies above every intensity in the image (largest " << r.preprocessed.max_intensity
         << "), so no pixel is white; try --threshold otsu\n";
   }
+  if (r.threshold_retry && r.threshold_retry->found > 0) {
+    out << "note: the sensor preset's threshold " << r.threshold_retry->fixed
+        << " found no marker; Otsu's threshold " << r.threshold_retry->otsu << " found "
+        << r.threshold_retry->found
+        << ": the print's intensity is not where the preset expects it (give --threshold to "
+           "choose one)\n";
+  }
   out << r.markers.size() << " marker(s)\n";
   out << std::fixed << std::setprecision(3);
   for (const MarkerResult& m : r.markers) {

@@ -96,6 +96,8 @@ struct Counts {
   // Results whose fixed threshold lay above every intensity: replaced by Otsu's (a preset's), or
   // kept (the user's); the last such threshold.
   std::size_t threshold_replaced = 0, threshold_above_all = 0, no_intensity = 0;
+  // Results whose markers were found only at Otsu's threshold (PipelineOptions::retry_with_otsu).
+  std::size_t found_at_otsu = 0;
   double threshold = 0;
 };
 
@@ -173,6 +175,10 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           ++counts.threshold_above_all;
           counts.threshold = result.preprocessed.threshold;
         }
+        if (result.threshold_retry && result.threshold_retry->found > 0) {
+          ++counts.found_at_otsu;
+          counts.threshold = result.threshold_retry->fixed;
+        }
         if (!result.markers.empty()) ++counts.with_markers;
         if (result.pose) {
           ++counts.with_pose;
@@ -232,6 +238,12 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           << " lay above every intensity: the cloud's intensity is not on the sensor preset's "
              "scale, so Otsu's threshold was used there (image.threshold_replaced; give "
              "--threshold to choose one)"
+          << std::endl;
+    if (counts.found_at_otsu > 0)
+      out << "note: in " << counts.found_at_otsu << " result(s) the sensor preset's threshold "
+          << counts.threshold
+          << " found no marker and Otsu's threshold found some: the print's intensity is not "
+             "where the preset expects it (image.threshold_retry; give --threshold to choose one)"
           << std::endl;
     if (counts.no_intensity > 0)
       out << "warning: in " << counts.no_intensity

@@ -86,6 +86,7 @@ void set_threshold(const std::string& text, PipelineOptions& options) {
       throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + text + "'");
     options.preprocess.threshold = t;
     options.preprocess.replace_threshold_above_all = false;  // the user's own number is kept
+    options.retry_with_otsu = false;
   }
 }
 

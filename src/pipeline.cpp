@@ -315,20 +315,21 @@ void Pipeline::lift_markers(std::vector<Detection>& detections, const PointView&
     if (failure) std::rethrow_exception(failure);
 }
 
-const FrameResult& Pipeline::process_projected(const PointView& cloud, double project_ms) {
-  FrameResult& r = result_;
-  r.markers.clear();
-  r.pose.reset();
-  r.pose_missing_reason.clear();
-  r.pose_rejected = false;
-  r.times_ms.project = project_ms;
-  Stopwatch watch;
+std::optional<double> Pipeline::otsu_retry_threshold(const PreprocessedImage& image) const {
+  const PreprocessOptions& p = options_.preprocess;
+  if (!options_.retry_with_otsu || !p.threshold || !p.binarize || p.local_threshold ||
+      image.replaced_threshold || image.no_intensity)
+    return std::nullopt;
+  // Closer than this share of the fixed threshold, Otsu's is the same choice (the real Pandar64
+  // frames: 96 against the preset's 100).
+  constexpr double kLeastGap = 0.25;
+  const double otsu = otsu_threshold(image);
+  if (std::abs(otsu - image.threshold) < kLeastGap * std::abs(image.threshold)) return std::nullopt;
+  return otsu;
+}
 
-  preprocess(r.image, options_.preprocess, r.preprocessed);
-  r.times_ms.preprocess = watch.lap_ms();
-
+std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, FrameResult& r) {
   std::vector<Detection> detections;
-  const DetectorImages images = detector_images(r.preprocessed, options_.preprocess);
   for (auto& detector : detectors_) detector->detect_images(images, detections);
   detect_across_seam(images, r.preprocessed.geometry, detectors_, detections);
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
@@ -349,7 +350,7 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
                          [&](const Detection& d) { return inside(centre, d.corners_px); });
     };
     std::vector<Detection> decoded;
-    ring_decoder_->decode_candidates(r.preprocessed.detect, r.preprocessed.geometry, r.image,
+    ring_decoder_->decode_candidates(images.image, r.preprocessed.geometry, r.image,
                                      ring_intensity(r), decoded, covered);
     for (Detection& d : decoded) detections.push_back(std::move(d));
   }
@@ -370,7 +371,41 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
                      return std::make_pair(a.corners_px[0].y(), a.corners_px[0].x()) <
                             std::make_pair(b.corners_px[0].y(), b.corners_px[0].x());
                    });
+  return detections;
+}
+
+const FrameResult& Pipeline::process_projected(const PointView& cloud, double project_ms) {
+  FrameResult& r = result_;
+  r.markers.clear();
+  r.pose.reset();
+  r.pose_missing_reason.clear();
+  r.pose_rejected = false;
+  r.times_ms.project = project_ms;
+  Stopwatch watch;
+
+  preprocess(r.image, options_.preprocess, r.preprocessed);
+  r.times_ms.preprocess = watch.lap_ms();
+
+  std::vector<Detection> detections =
+      detect_markers(detector_images(r.preprocessed, options_.preprocess), r);
   r.times_ms.detect = watch.lap_ms();
+  r.threshold_retry.reset();
+  const std::optional<double> otsu =
+      detections.empty() ? otsu_retry_threshold(r.preprocessed) : std::nullopt;
+  if (otsu) {
+    binarize_at(r.preprocessed, *otsu, options_.preprocess, retry_detect_);
+    r.times_ms.preprocess += watch.lap_ms();
+    DetectorImages images = detector_images(r.preprocessed, options_.preprocess);
+    images.image = retry_detect_;
+    detections = detect_markers(images, r);
+    r.threshold_retry =
+        FrameResult::ThresholdRetry{r.preprocessed.threshold, *otsu, detections.size()};
+    if (!detections.empty()) {
+      std::swap(r.preprocessed.detect, retry_detect_);
+      r.preprocessed.threshold = *otsu;
+    }
+    r.times_ms.detect += watch.lap_ms();
+  }
 
   lift_markers(detections, cloud, r);
   r.times_ms.lift = watch.lap_ms();

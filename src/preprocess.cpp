@@ -353,13 +353,27 @@ IILFM_AVX2_CLONES void binarize(const cv::Mat& filled, const cv::Mat& valid,
   }
 }
 
+// Threads take at least this many of the projected image's pixels each: a ring image's few
+// thousand (its rows are copied out to square pixels) are done before a thread has started.
+constexpr std::size_t kMinPixelsPerPart = 65536;
+
+// The naive binary image's last steps. Holes take the class of their surroundings: a constant for
+// all holes drew the gaps between a sparse rosette's petals (a 10-frame Mid-40 image is 80 %
+// unobserved away from its centre) as thousands of black streaks on a white wall: no marker, but
+// 3-5 times AprilTag's clustering time, and a 17 cm tag at 2 m with gaps inside it was not found
+// before 10 frames (now from 2; docs/pipeline.md). The surroundings' class keeps a dark floor
+// dark, where all-white holes made random patterns that weak families (tag16h5, tag25h9) decoded.
+void classify_holes_and_blur(PreprocessedImage& image, const PreprocessOptions& options,
+                             cv::Mat& detect) {
+  if (options.hole_class_block > 0)
+    detail::classify_holes(image.valid, options.hole_class_block, detect, image.hole_classes);
+  if (options.blur_sigma > 0) cv::GaussianBlur(detect, detect, cv::Size(0, 0), options.blur_sigma);
+}
+
 }  // namespace
 
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                 PreprocessedImage& out) {
-  // Threads take at least this many of the projected image's pixels each: a ring image's few
-  // thousand (its rows are copied out to square pixels) are done before a thread has started.
-  constexpr std::size_t kMinPixelsPerPart = 65536;
   const int parts = detail::parts_for(options.threads, image.intensity.total(), kMinPixelsPerPart);
   const cv::Mat* source = &image.intensity;
   if (options.normalise.mode != IntensityNormalisation::kNone) {
@@ -403,6 +417,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   }
   const cv::Mat& filled = *values;
   const cv::Mat& filled_mask = *mask;
+  out.filled = filled;
 
   // A header onto the last pass's mask, not a copy: nothing writes that buffer again before the
   // next frame, which rewrites `out` whole anyway (a copy cost 0.02 ms on a Mid-40 image).
@@ -460,18 +475,27 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     out.detect.setTo(255, above & filled_mask);
     out.detect.setTo(options.unobserved_value, filled_mask == 0);
   } else {
-    // Holes take the class of their surroundings: a constant for all holes drew the gaps between
-    // a sparse rosette's petals (a 10-frame Mid-40 image is 80 % unobserved away from its centre)
-    // as thousands of black streaks on a white wall: no marker, but 3-5 times AprilTag's
-    // clustering time, and a 17 cm tag at 2 m with gaps inside it was not found before 10 frames
-    // (now from 2; docs/pipeline.md). The surroundings' class keeps a dark floor dark, where
-    // all-white holes made random patterns that weak families (tag16h5, tag25h9) decoded.
-    if (options.hole_class_block > 0)
-      detail::classify_holes(filled_mask, options.hole_class_block, out.detect, out.hole_classes);
+    classify_holes_and_blur(out, options, out.detect);
+    return;
   }
   if (options.blur_sigma > 0) {
     cv::GaussianBlur(out.detect, out.detect, cv::Size(0, 0), options.blur_sigma);
   }
+}
+
+double otsu_threshold(const PreprocessedImage& image) {
+  return otsu_threshold(image.gray, image.valid, image.repeats_row_above, image.intensity_scale);
+}
+
+void binarize_at(PreprocessedImage& image, double threshold, const PreprocessOptions& options,
+                 cv::Mat& detect) {
+  detect.create(image.filled.size(), CV_8U);
+  const int parts = detail::parts_for(options.threads, image.filled.total(), kMinPixelsPerPart);
+  detail::in_row_parts(image.filled.rows, parts, [&](int first_row, int end_row) {
+    binarize(image.filled, image.valid, image.repeats_row_above, threshold,
+             options.unobserved_value, first_row, end_row, detect);
+  });
+  classify_holes_and_blur(image, options, detect);
 }
 
 DetectorImages detector_images(const PreprocessedImage& image, const PreprocessOptions& options) {

@@ -123,6 +123,12 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
         {"given", round_to(*result.preprocessed.replaced_threshold, 1e-3)},
         {"max_intensity", round_to(result.preprocessed.max_intensity, 1e-6)}};
   }
+  if (result.threshold_retry) {
+    // The preset's threshold found no marker; the frame was thresholded at Otsu's as well.
+    out["image"]["threshold_retry"] = {{"fixed", round_to(result.threshold_retry->fixed, 1e-3)},
+                                       {"otsu", round_to(result.threshold_retry->otsu, 1e-3)},
+                                       {"found", result.threshold_retry->found}};
+  }
   if (result.preprocessed.geometry.height != g.height) {
     out["image"]["detector_height"] = result.preprocessed.geometry.height;  // square pixels
   }

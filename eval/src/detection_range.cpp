@@ -21,6 +21,7 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
     options.preprocess.square_pixels = false;
     options.min_samples_per_cell = 0;
     options.detector.apriltag.decode_gray = false;  // the paper's AprilTag reads the binary image
+    options.retry_with_otsu = false;                // one naive threshold
   }
   return options;
 }

@@ -74,6 +74,12 @@ struct PipelineOptions {
   // marker's plane fit gathers its points on them (PlaneFitOptions::threads). Same results for
   // any count. `--threads` sets it with the projection's and preprocessing's.
   int lift_threads = 1;
+  // When a preset's fixed threshold finds no marker and Otsu's threshold over the image lies at
+  // least a tenth of the gray scale away from it, threshold the frame at Otsu's and detect once
+  // more: a cloud whose print and paper both sit above (or below) the preset's value, such as
+  // black ink that returns 60 on a 0..255 scale, shows no marker at the preset's threshold.
+  // FrameResult::threshold_retry reports it. A threshold the user gives (set_threshold) is kept.
+  bool retry_with_otsu = true;
 };
 
 struct MarkerResult {
@@ -114,6 +120,13 @@ struct FrameResult {
   // max_rms_m, markers disagreeing): pose_missing_reason says why.
   bool pose_rejected = false;
   StageTimes times_ms;
+  // PipelineOptions::retry_with_otsu: the fixed threshold that found nothing, Otsu's threshold,
+  // and the markers found at Otsu's (then `preprocessed.detect` and `.threshold` are Otsu's).
+  struct ThresholdRetry {
+    double fixed = 0, otsu = 0;
+    std::size_t found = 0;
+  };
+  std::optional<ThresholdRetry> threshold_retry;
 };
 
 // Sets the preset's image resolution, field of view, naive threshold and intensity normalisation.
@@ -147,6 +160,12 @@ class Pipeline {
   PipelineOptions options_;
   // Every stage after the projection, on the image in result_.
   const FrameResult& process_projected(const PointView& cloud, double project_ms);
+  // Every detector, the ring checks and candidates, one report per marker, in a fixed order: the
+  // detections in `images` (a binary image of result_.preprocessed), in the projected image's
+  // pixels.
+  std::vector<Detection> detect_markers(const DetectorImages& images, FrameResult& r);
+  // Otsu's threshold when PipelineOptions::retry_with_otsu applies to this frame's fixed one.
+  std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
   // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`);
@@ -163,6 +182,7 @@ class Pipeline {
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
   std::unique_ptr<detail::RingDecoder> ring_decoder_;  // from the first ring-row image
   FrameResult result_;
+  cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
 };
 
 }  // namespace iilfm

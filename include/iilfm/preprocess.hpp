@@ -82,6 +82,9 @@ struct PreprocessedImage {
   // Intensity mapped to gray 255: twice the 99th percentile of the observed intensity, so white
   // paper is not clipped where walls fill most of the image.
   double intensity_scale = 0;
+  // The values the threshold was applied to (a header onto a working buffer, the normalised or the
+  // projected intensity: valid until the next frame), for binarize_at.
+  cv::Mat filled;
 
   // Working buffers (hole filling, square pixels), kept so that frame after frame of one size
   // allocates nothing.
@@ -100,6 +103,15 @@ struct PreprocessedImage {
 // Fills `out`, reusing its buffers.
 void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
                 PreprocessedImage& out);
+
+// Otsu's threshold over `image`'s observed gray values, in the units of its threshold.
+double otsu_threshold(const PreprocessedImage& image);
+
+// The binary image preprocess makes with the naive threshold `threshold` (holes taking their
+// surroundings' class, the blur), written to `detect`: a second threshold for the same frame
+// without redoing the rest.
+void binarize_at(PreprocessedImage& image, double threshold, const PreprocessOptions& options,
+                 cv::Mat& detect);
 
 // What the detectors are given (headers onto `image`'s buffers, no copy): the detection image,
 // and with a binarised one the gray image and its valid mask.

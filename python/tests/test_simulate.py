@@ -67,3 +67,21 @@ def test_preset_threshold_above_a_unit_scale_cloud_is_replaced_but_a_given_one_i
     kept = iilfm.Pipeline(sensor="vlp16", map=str(marker_map), threshold=40).detect(xyzi)
     assert kept.markers == [] and kept.threshold == 40
     assert "threshold_replaced" not in kept.to_json()["image"]
+
+
+def test_print_above_the_presets_threshold_is_found_at_otsus_unless_the_threshold_is_given(
+        tmp_path):
+    # The same sweep with every return 50 brighter: ink at about 60, above the preset's 40.
+    marker_map = tmp_path / "map.yaml"
+    cloud, _ = iilfm.simulate(scene="tag-wall", sensor="vlp16", marker_size=0.6, distance=2,
+                              map=str(marker_map))
+    xyzi = cloud.xyzi().copy()
+    xyzi[:, 3] += 50.0
+    result = iilfm.Pipeline(sensor="vlp16", map=str(marker_map)).detect(xyzi)
+    assert [m.id for m in result.markers] == [0]
+    retry = result.to_json()["image"]["threshold_retry"]
+    assert retry["fixed"] == 40 and retry["found"] == 1
+    assert result.threshold == pytest.approx(retry["otsu"], abs=1e-3) and result.threshold > 60
+    kept = iilfm.Pipeline(sensor="vlp16", map=str(marker_map), threshold=40).detect(xyzi)
+    assert kept.markers == [] and kept.threshold == 40
+    assert "threshold_retry" not in kept.to_json()["image"]

@@ -189,6 +189,53 @@ TEST(Cli, IntensityOffThePresetsScaleOrMissingIsHandledAndSaid) {
   EXPECT_EQ(replaced, 2);
 }
 
+TEST(Cli, PrintAboveThePresetsThresholdIsFoundAtOtsusAndSaid) {
+  // Ink returning 60 and paper 200 (a print both of whose returns lie above the VLP-16 preset's
+  // 40): nothing at 40, the marker at Otsu's threshold.
+  const fs::path d = cli_temp_dir();
+  const std::string scene = (d / "bright_ink.yaml").string(), pcd = (d / "bright.pcd").string(),
+                    map = (d / "bright_map.yaml").string(), json = (d / "bright.json").string();
+  std::ofstream(scene) << "lidar: {sensor: vlp16}\n"
+                          "print: {white: 200, black: 60}\n"
+                          "walls:\n"
+                          "  - {centre: [2, 0, 0], rpy_deg: [90, 0, -90], width: 6, height: 3}\n"
+                          "markers:\n"
+                          "  - {family: apriltag:tag36h11, id: 3, size: 0.6, on_wall: 0, "
+                          "at: [0, 0.2]}\n";
+  ASSERT_EQ(run_cli("sim --scene-file " + scene + " --out " + pcd + " --map " + map).status, 0);
+  CliRun r = run_cli("detect " + pcd + " --sensor vlp16 --map " + map + " --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("note: the sensor preset's threshold 40 found no marker; Otsu's threshold"),
+            std::string::npos)
+      << r.out;
+  nlohmann::json j = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(j["markers"].size(), 1u);
+  EXPECT_EQ(j["markers"][0]["id"], 3);
+  EXPECT_TRUE(j["pose"].is_object());
+  EXPECT_EQ(j["image"]["threshold_retry"]["fixed"], 40.0);
+  EXPECT_EQ(j["image"]["threshold_retry"]["found"], 1);
+  EXPECT_EQ(j["image"]["threshold_retry"]["otsu"], j["image"]["threshold"]);
+
+  // The user's own 40 is kept: no marker, no retry.
+  r = run_cli("detect " + pcd + " --sensor vlp16 --threshold 40 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["markers"].size(), 0u);
+  EXPECT_FALSE(j["image"].contains("threshold_retry"));
+
+  // A folder of such scans: the summary counts them.
+  const fs::path folder = d / "bright_frames";
+  fs::create_directories(folder);
+  for (const char* name : {"000000.pcd", "000001.pcd"}) fs::copy_file(pcd, folder / name);
+  r = run_cli("detect " + folder.string() + " --sensor vlp16 --map " + map + " --jsonl " +
+              (d / "bright.jsonl").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("note: in 2 result(s) the sensor preset's threshold 40 found no marker"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("markers in 2, LiDAR pose in 2"), std::string::npos) << r.out;
+}
+
 TEST(Cli, SpinningPresetTakesTheColumnsOfTheCloudsMode) {
   // The simulated OS1-128 runs 2048 columns, its preset assumes 1024 (the sensor's default mode).
   // A 40 cm tag at 7 m: found in the cloud's 2048 columns, lost when they are merged in pairs.
