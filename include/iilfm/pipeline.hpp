@@ -74,8 +74,8 @@ struct PipelineOptions {
   // marker's plane fit gathers its points on them (PlaneFitOptions::threads). Same results for
   // any count. `--threads` sets it with the projection's and preprocessing's.
   int lift_threads = 1;
-  // When a preset's fixed threshold finds no marker and Otsu's threshold over the image lies at
-  // least a tenth of the gray scale away from it, threshold the frame at Otsu's and detect once
+  // When a preset's fixed threshold finds no marker and Otsu's threshold over the image lies more
+  // than a quarter of the fixed one away from it, threshold the frame at Otsu's and detect once
   // more: a cloud whose print and paper both sit above (or below) the preset's value, such as
   // black ink that returns 60 on a 0..255 scale, shows no marker at the preset's threshold.
   // FrameResult::threshold_retry reports it. A threshold the user gives (set_threshold) is kept.
