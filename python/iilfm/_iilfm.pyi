@@ -170,7 +170,9 @@ class Pipeline:
         pose_refine: str = "none",
         normalise_intensity: str = "",
         ring_decode: bool = True,
-        ring_candidates: bool = False,
+        ring_candidates: bool = True,
+        search_regions: bool = True,
+        gray_decode: bool = True,
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""
