@@ -475,7 +475,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
     out.detect.setTo(255, above & filled_mask);
     out.detect.setTo(options.unobserved_value, filled_mask == 0);
   }
-  if (naive) {
+  if (options.binarize) {
     classify_holes_and_blur(out, options, out.detect);
   } else if (options.blur_sigma > 0) {
     cv::GaussianBlur(out.detect, out.detect, cv::Size(0, 0), options.blur_sigma);

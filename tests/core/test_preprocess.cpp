@@ -110,6 +110,13 @@ TEST(Preprocess, UnfillableHolesTakeTheClassOfTheirSurroundings) {
   // The observed pixels keep their own class.
   EXPECT_EQ(out.detect.at<uchar>(3, 3), 255);
   EXPECT_EQ(out.detect.at<uchar>(33, 3), 0);
+  // The local threshold's holes too (they were all black: streaks across a sparse Livox image).
+  opt.local_threshold = true;
+  preprocess(img, opt, out);
+  EXPECT_EQ(out.detect.at<uchar>(4, 10), 255);
+  EXPECT_EQ(out.detect.at<uchar>(34, 10), 0);
+  EXPECT_EQ(out.detect.at<uchar>(10, 57), 255);
+  opt.local_threshold = false;
   opt.hole_class_block = 0;  // the constant instead
   preprocess(img, opt, out);
   EXPECT_EQ(out.detect.at<uchar>(4, 10), 0);
