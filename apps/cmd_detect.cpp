@@ -405,7 +405,8 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option(
       "--threshold", args->threshold,
       "Naive threshold in intensity units, 'otsu', or 'local' (local mean where the image "
-      "has contrast; default: the preset's, or Otsu without one; 'local' for an image input)");
+      "has contrast; default: the preset's, retried at Otsu's when it finds no marker, or Otsu "
+      "without a preset; 'local' for an image input)");
   cmd->add_option("--normalise-intensity", args->normalise_intensity,
                   "Intensity for range (x (r / 10 m)^2) and angle of incidence before "
                   "thresholding: none|range|range-incidence (default: the preset's, else none; "
