@@ -89,18 +89,25 @@ std::size_t scalar_size(ScalarType type) {
   return 0;
 }
 
+PackedRoles find_roles_by_name(const std::vector<std::string>& names) {
+  std::vector<std::string> normalised;
+  normalised.reserve(names.size());
+  for (const std::string& name : names) normalised.push_back(role_name(name));
+  PackedRoles roles;
+  roles.x = find_field(normalised, {"x"});
+  roles.y = find_field(normalised, {"y"});
+  roles.z = find_field(normalised, {"z"});
+  roles.intensity = find_field(normalised, {"intensity", "signal", "reflectivity", "i"});
+  roles.ring = find_field(normalised, {"ring", "channel", "line"});
+  roles.time = find_field(normalised, {"time", "timestamp", "t"});
+  return roles;
+}
+
 PackedRoles find_packed_roles(const std::vector<PackedField>& fields) {
   std::vector<std::string> names;
   names.reserve(fields.size());
-  for (const PackedField& f : fields) names.push_back(role_name(f.name));
-  PackedRoles roles;
-  roles.x = find_field(names, {"x"});
-  roles.y = find_field(names, {"y"});
-  roles.z = find_field(names, {"z"});
-  roles.intensity = find_field(names, {"intensity", "reflectivity", "i"});
-  roles.ring = find_field(names, {"ring", "channel", "line"});
-  roles.time = find_field(names, {"time", "timestamp", "t"});
-  return roles;
+  for (const PackedField& f : fields) names.push_back(f.name);
+  return find_roles_by_name(names);
 }
 
 void decode_packed_records(const std::uint8_t* first, std::size_t n, std::size_t stride,

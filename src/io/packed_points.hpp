@@ -28,8 +28,11 @@ struct PackedRoles {
 };
 
 // Picks the fields by name, case-insensitively and ignoring a "scalar_" prefix (CloudCompare's):
-// x, y, z; intensity from intensity, else reflectivity, else i; ring from ring, else channel, else
-// line; time from time, else timestamp, else t. Earlier names win over later ones.
+// x, y, z; intensity from intensity, else signal (an Ouster's photon count under its driver's
+// native point type, which "intensity" holds under the default one), else reflectivity, else i;
+// ring from ring, else channel, else line; time from time, else timestamp, else t. Earlier names
+// win over later ones. Every reader of named fields (PCD, PLY, PointCloud2) uses these rules.
+PackedRoles find_roles_by_name(const std::vector<std::string>& names);
 PackedRoles find_packed_roles(const std::vector<PackedField>& fields);
 
 // Appends `n` records, the first at `first` and each next one `stride` bytes further, to out

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "iilfm/error.hpp"
+#include "packed_points.hpp"
 
 namespace iilfm::io {
 namespace {
@@ -183,29 +184,24 @@ std::vector<PcdField> build_fields(const RawHeader& raw, const std::string& path
   return fields;
 }
 
-int find_field(const std::vector<PcdField>& fields, std::initializer_list<std::string_view> names) {
-  for (const std::string_view name : names) {  // the order of `names` is the preference
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      if (fields[i].name == name) return static_cast<int>(i);
-    }
-  }
-  return PcdColumnSources::kAbsent;
-}
-
 PcdColumnSources find_sources(const std::vector<PcdField>& fields, const std::string& path) {
-  PcdColumnSources s;
-  s.x = find_field(fields, {"x"});
-  s.y = find_field(fields, {"y"});
-  s.z = find_field(fields, {"z"});
-  for (const auto& [index, name] : {std::pair{s.x, "x"}, {s.y, "y"}, {s.z, "z"}}) {
-    if (index == PcdColumnSources::kAbsent) {
+  std::vector<std::string> names;
+  names.reserve(fields.size());
+  for (const PcdField& f : fields) names.push_back(f.name);
+  const PackedRoles roles = find_roles_by_name(names);  // the rules of every named-field reader
+  for (const auto& [index, name] : {std::pair{roles.x, "x"}, {roles.y, "y"}, {roles.z, "z"}}) {
+    if (index < 0) {
       throw file_error(path,
                        std::string("FIELDS has no '") + name + "' field (x, y, z are needed)");
     }
   }
-  s.intensity = find_field(fields, {"intensity", "reflectivity", "i"});
-  s.ring = find_field(fields, {"ring", "channel"});
-  s.time = find_field(fields, {"time", "timestamp", "t"});
+  PcdColumnSources s;
+  s.x = roles.x;
+  s.y = roles.y;
+  s.z = roles.z;
+  s.intensity = roles.intensity;
+  s.ring = roles.ring;
+  s.time = roles.time;
   return s;
 }
 

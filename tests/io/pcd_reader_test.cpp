@@ -81,6 +81,35 @@ TEST(PcdReader, PrefersIntensityThenReflectivityThenI) {
   EXPECT_EQ(read_pcd(only_i).cloud.intensity, (std::vector<float>{4.0f}));
 }
 
+TEST(PcdReader, TakesAnOustersSignalOverItsReflectivity) {
+  // The field layout of ouster-ros's native point type: the photon count is "signal" (what
+  // "intensity" holds under the default type, and what the Ouster presets normalise).
+  testing::TempDir dir;
+  const std::string path = dir.file("native.pcd");
+  write_bytes(path,
+              pcd_header("x y z t range reflectivity signal ring near_ir", "4 4 4 4 4 1 2 2 2",
+                         "F F F U U U U U U", "1 1 1 1 1 1 1 1 1", 1, "ascii") +
+                  "1 2 3 50000 3741 12 850 31 40\n");
+  const LoadedCloud loaded = read_pcd(path);
+  EXPECT_EQ(loaded.cloud.intensity, (std::vector<float>{850.0f}));
+  EXPECT_EQ(loaded.cloud.ring, (std::vector<std::uint16_t>{31}));
+}
+
+TEST(PcdReader, MatchesFieldNamesAsThePlyAndRosReadersDo) {
+  // In any letter case and with CloudCompare's "scalar_" prefix, as PLY files and PointCloud2
+  // messages name them (they were matched in lower case only).
+  testing::TempDir dir;
+  const std::string path = dir.file("upper.pcd");
+  write_bytes(path, pcd_header("X Y Z scalar_Intensity Ring", "4 4 4 4 2", "F F F F U", "1 1 1 1 1",
+                               1, "ascii") +
+                        "1 2 3 77 5\n");
+  const LoadedCloud loaded = read_pcd(path);
+  EXPECT_EQ(loaded.cloud.x, (std::vector<float>{1.0f}));
+  EXPECT_EQ(loaded.cloud.z, (std::vector<float>{3.0f}));
+  EXPECT_EQ(loaded.cloud.intensity, (std::vector<float>{77.0f}));
+  EXPECT_EQ(loaded.cloud.ring, (std::vector<std::uint16_t>{5}));
+}
+
 TEST(PcdReader, ReadsChannelAsRingAndTAsTime) {
   testing::TempDir dir;
   const std::string path = dir.file("ouster.pcd");

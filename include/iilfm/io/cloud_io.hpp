@@ -14,16 +14,17 @@ struct LoadedCloud {
 };
 
 // PCD (VERSION 0.7 and older headers; DATA ascii, binary and binary_compressed; any numeric field
-// type and count; intensity taken from a field named intensity, reflectivity or i; ring from ring
-// or channel; per-point time from time, timestamp or t). Fields it does not know are skipped.
+// type and count). Fields by name as PLY and PointCloud2 name them (any letter case, no "scalar_"
+// prefix): intensity from intensity, signal, reflectivity or i; ring from ring, channel or line;
+// per-point time from time, timestamp or t. Fields it does not know are skipped.
 LoadedCloud read_pcd(const std::string& path);
 
 // KITTI Velodyne .bin: consecutive little-endian float32 quadruples x, y, z, reflectance.
 LoadedCloud read_kitti_bin(const std::string& path);
 
 // PLY (ascii, binary_little_endian, binary_big_endian): the vertex element's x, y, z (any numeric
-// type); intensity from intensity, reflectivity or i, ring from ring, channel or line, time from
-// time, timestamp or t, each also with CloudCompare's "scalar_" prefix and in any letter case.
+// type); intensity from intensity, signal, reflectivity or i, ring from ring, channel or line, time
+// from time, timestamp or t, each also with CloudCompare's "scalar_" prefix and in any letter case.
 LoadedCloud read_ply(const std::string& path);
 
 // Plain text: one point per line, x y z [intensity] separated by blanks or commas; '#' starts a
