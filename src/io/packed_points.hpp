@@ -21,9 +21,10 @@ struct PackedField {
 
 std::size_t scalar_size(ScalarType type);
 
-// Which field feeds each cloud column; -1 when none does.
+// Which field feeds each cloud column; kAbsent when none does.
 struct PackedRoles {
-  int x = -1, y = -1, z = -1, intensity = -1, ring = -1, time = -1;
+  static constexpr int kAbsent = -1;
+  int x = kAbsent, y = kAbsent, z = kAbsent, intensity = kAbsent, ring = kAbsent, time = kAbsent;
   bool has_xyz() const { return x >= 0 && y >= 0 && z >= 0; }
 };
 

@@ -6,7 +6,6 @@
 #include <string_view>
 
 #include "iilfm/error.hpp"
-#include "packed_points.hpp"
 
 namespace iilfm::io {
 namespace {
@@ -188,20 +187,13 @@ PcdColumnSources find_sources(const std::vector<PcdField>& fields, const std::st
   std::vector<std::string> names;
   names.reserve(fields.size());
   for (const PcdField& f : fields) names.push_back(f.name);
-  const PackedRoles roles = find_roles_by_name(names);  // the rules of every named-field reader
-  for (const auto& [index, name] : {std::pair{roles.x, "x"}, {roles.y, "y"}, {roles.z, "z"}}) {
-    if (index < 0) {
+  const PcdColumnSources s = find_roles_by_name(names);  // the rules of every named-field reader
+  for (const auto& [index, name] : {std::pair{s.x, "x"}, {s.y, "y"}, {s.z, "z"}}) {
+    if (index == PcdColumnSources::kAbsent) {
       throw file_error(path,
                        std::string("FIELDS has no '") + name + "' field (x, y, z are needed)");
     }
   }
-  PcdColumnSources s;
-  s.x = roles.x;
-  s.y = roles.y;
-  s.z = roles.z;
-  s.intensity = roles.intensity;
-  s.ring = roles.ring;
-  s.time = roles.time;
   return s;
 }
 

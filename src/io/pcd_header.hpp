@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "iilfm/io/cloud_io.hpp"
+#include "packed_points.hpp"
 #include "scalar_column.hpp"
 
 namespace iilfm::io {
@@ -22,12 +23,9 @@ struct PcdField {
   std::size_t value_index;  // of element 0 among the values of an ascii line
 };
 
-// Which field feeds each cloud column; kAbsent when the file has none.
-struct PcdColumnSources {
-  static constexpr int kAbsent = -1;
-  int x = kAbsent, y = kAbsent, z = kAbsent;
-  int intensity = kAbsent, ring = kAbsent, time = kAbsent;
-};
+// Which field feeds each cloud column (indices into PcdHeader::fields), found by the rules every
+// reader of named fields shares.
+using PcdColumnSources = PackedRoles;
 
 struct PcdHeader {
   std::vector<PcdField> fields;
