@@ -84,10 +84,14 @@ void set_threshold(const std::string& text, PipelineOptions& options) {
     const double t = std::strtod(text.c_str(), &end);
     if (end == text.c_str() || *end != '\0' || !std::isfinite(t))
       throw InputError("--threshold must be a number, 'otsu' or 'local', got '" + text + "'");
-    options.preprocess.threshold = t;
-    options.preprocess.replace_threshold_above_all = false;  // the user's own number is kept
-    options.retry_with_otsu = false;
+    set_given_threshold(t, options);
   }
+}
+
+void set_given_threshold(double threshold, PipelineOptions& options) {
+  options.preprocess.threshold = threshold;
+  options.preprocess.replace_threshold_above_all = false;
+  options.retry_with_otsu = false;
 }
 
 }  // namespace iilfm

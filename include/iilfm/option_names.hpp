@@ -34,4 +34,8 @@ void set_intensity_normalisation(const std::string& name, PipelineOptions& optio
 // has contrast, the preset's or Otsu's threshold elsewhere); empty keeps the current one.
 void set_threshold(const std::string& text, PipelineOptions& options);
 
+// A fixed threshold the user gives (--threshold T, Python threshold=T): kept as given, never
+// replaced by Otsu's above every intensity nor retried at Otsu's when it finds nothing.
+void set_given_threshold(double threshold, PipelineOptions& options);
+
 }  // namespace iilfm

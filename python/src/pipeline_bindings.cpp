@@ -68,9 +68,7 @@ PipelineOptions pipeline_options(const Options& a) {
     if (!std::isfinite(t))
       throw InputError("--threshold must be a number, 'otsu' or 'local', got '" +
                        py::str(a.threshold).cast<std::string>() + "'");
-    options.preprocess.threshold = t;
-    options.preprocess.replace_threshold_above_all = false;  // the user's own number is kept
-    options.retry_with_otsu = false;
+    set_given_threshold(t, options);
   }
   options.preprocess.binarize = !a.gray;
   options.preprocess.blur_sigma = a.blur;
