@@ -34,6 +34,7 @@ struct DetectArgs {
   double res_h = 0, res_v = 0;
   std::size_t max_image_pixels = ProjectionOptions{}.max_pixels;
   std::vector<std::string> markers;
+  std::string ids;  // --ids: "0,3,10-19"
   std::string map_path;
   double marker_size = 0;
   int min_pose_corners = static_cast<int>(LidarPoseOptions{}.min_corners);
@@ -152,6 +153,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   set_lift(args.lift, options);
 
   if (!args.markers.empty()) options.families = args.markers;
+  if (!args.ids.empty()) set_known_ids(parse_id_list(args.ids), options);
   options.detector.apriltag.decimate = args.decimate;
   options.detector.apriltag.sigma = args.quad_sigma;
   options.detector.apriltag.refine_edges = !args.no_refine_edges;
@@ -381,6 +383,10 @@ Runner register_detect_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--marker", args->markers,
                   "Marker family, repeatable (default apriltag:tag36h11)");
+  cmd->add_option("--ids", args->ids,
+                  "Ids of the markers in the scene, e.g. 0,3,10-19 (every --marker family): only "
+                  "they are reported, and sparse rings read them farther (the map's ids are "
+                  "always read so)");
   cmd->add_option("--map", args->map_path, "Marker map YAML: enables the LiDAR pose");
   cmd->add_option("--marker-size", args->marker_size,
                   "Edge of the black square (m) of markers not in the map: enables T_lidar_marker");

@@ -129,20 +129,39 @@ CellCodeBook::CellCodeBook(int total_width, int border_width, std::vector<int> r
   }
 }
 
+CellCodeBook CellCodeBook::restricted_to(const std::vector<int>& ids) const {
+  CellCodeBook out = *this;
+  std::vector<bool> seen(static_cast<std::size_t>(codes()), false);
+  for (auto& turned : out.codes_) turned.clear();
+  for (int id : ids) {
+    if (id < 0 || id >= codes())
+      throw InputError("marker id " + std::to_string(id) + " is not in the family (ids 0.." +
+                       std::to_string(codes() - 1) + ")");
+    if (seen[static_cast<std::size_t>(id)]) continue;
+    seen[static_cast<std::size_t>(id)] = true;
+    for (int q = 0; q < 4; ++q) out.codes_[q].push_back(codes_[q][static_cast<std::size_t>(id)]);
+    out.ids_.push_back(id_at(id));
+  }
+  return out;
+}
+
 // Compares the reading with all 4 turns of every code, twice (thousands of bit counts).
 IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const BitReading& reading,
                                               const DecodeLimits& limits, int hypotheses) {
   DecodeResult best;
   const int known = popcount(reading.known);
   best.erasures = book.bits() - known;
-  best.errors = std::numeric_limits<int>::max();
+  best.errors = best.runner_up_errors = std::numeric_limits<int>::max();
   for (int q = 0; q < 4; ++q)
     for (int id = 0; id < book.codes(); ++id) {
       const int errors = popcount((book.code(id, q) ^ reading.white) & reading.known);
       if (errors < best.errors) {
+        best.runner_up_errors = best.errors;
         best.errors = errors;
         best.id = id;
         best.quarter_turns = q;
+      } else if (errors < best.runner_up_errors) {
+        best.runner_up_errors = errors;
       }
     }
   if (best.id < 0) return best;
@@ -154,6 +173,7 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
       best.distance_to_next =
           std::min(best.distance_to_next, popcount((book.code(id, q) ^ chosen) & reading.known));
     }
+  best.id = book.id_at(best.id);
   best.security_bits = chance_match_bits(book, known, best.errors, hypotheses);
   best.accepted = best.errors <= limits.max_errors &&
                   2 * best.errors + limits.min_distance_margin <= best.distance_to_next &&

@@ -33,9 +33,15 @@ class CellCodeBook {
   int bits() const { return bits_; }
   int codes() const { return static_cast<int>(codes_[0].size()); }
   int min_distance() const { return min_distance_; }
-  // Code `id` as read in a frame turned by `quarter_turns` clockwise quarter turns: bit k set when
-  // data cell k of that frame is white.
-  std::uint64_t code(int id, int quarter_turns) const { return codes_[quarter_turns][id]; }
+  // Code number `index` as read in a frame turned by `quarter_turns` clockwise quarter turns: bit
+  // k set when data cell k of that frame is white. In a family's book the index is the id.
+  std::uint64_t code(int index, int quarter_turns) const { return codes_[quarter_turns][index]; }
+  // The marker id of code number `index`.
+  int id_at(int index) const { return ids_.empty() ? index : ids_[index]; }
+
+  // The same cells with the codes of `ids` alone (code numbers of this book, which in a family's
+  // book are the ids; InputError for one out of range), numbered in the order given.
+  CellCodeBook restricted_to(const std::vector<int>& ids) const;
 
   // Builds a book from the cell roles (total_width^2) and each id's data bits (bit k = data cell
   // k is white) as printed upright. Public for tests.
@@ -46,6 +52,7 @@ class CellCodeBook {
   int total_width_, border_width_, bits_ = 0, min_distance_;
   std::vector<int> roles_;
   std::array<std::vector<std::uint64_t>, 4> codes_;
+  std::vector<int> ids_;  // id of each code; empty: the index
 };
 
 // Data bits read from a marker: bit k of `white` is data cell k's colour, valid where `known`.
@@ -67,6 +74,8 @@ struct DecodeResult {
   bool accepted = false;
   int id = -1, quarter_turns = 0;
   int errors = 0, erasures = 0;
+  // Fewest misread bits of any other code (and rotation) of the book.
+  int runner_up_errors = 0;
   // Fewest known bits in which another code (any rotation) differs from the best one.
   int distance_to_next = 0;
   double security_bits = 0;
@@ -85,7 +94,8 @@ double chance_match_bits(const CellCodeBook& book, int known, int errors, int hy
 // The same for any family of `codes` codes (AprilTag's bound on corrected bits uses it too).
 double chance_match_bits(double codes, int known, int errors, int hypotheses = 1);
 
-// Known bits of `reading` that differ from code `id` read upright (rotation 0).
+// Known bits of `reading` that differ from code `id` read upright (rotation 0), in a family's
+// book (not a restricted one).
 int errors_against(const CellCodeBook& book, const BitReading& reading, int id);
 
 }  // namespace iilfm::detail

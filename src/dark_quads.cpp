@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <utility>
 
 #include "banded_contours.hpp"
 
@@ -37,18 +38,42 @@ bool may_hold_square(std::size_t points, const cv::Rect& box, double min_side_px
          box.height <= image.height * 3 / 4;
 }
 
+// Dark pixels of `dark` (a band of the image starting at `origin`) inside the convex `hull`
+// (image coordinates), and the pixels inside it.
+std::pair<int, int> dark_pixels_in_hull(const cv::Mat& dark, cv::Point origin,
+                                        const std::vector<cv::Point>& hull) {
+  const cv::Rect box = cv::boundingRect(hull) & cv::Rect(origin, dark.size());
+  if (box.empty()) return {0, 0};
+  thread_local cv::Mat inside, both;
+  inside.create(box.size(), CV_8U);
+  inside.setTo(0);
+  thread_local std::vector<cv::Point> shifted;
+  shifted.clear();
+  for (const cv::Point& p : hull) shifted.push_back(p - box.tl());
+  cv::fillConvexPoly(inside, shifted, 255);
+  cv::bitwise_and(dark(box - origin), inside, both);
+  return {cv::countNonZero(both), cv::countNonZero(inside)};
+}
+
 // The quadrilateral of a dark outline that may_hold_square: the points of `outlines` (one blob's
-// contour, or two blobs'), whose convex hull is `hull`, of `dark_area` pixels.
+// contour, or two blobs'), whose convex hull is `hull` and whose contours enclose `enclosed`
+// pixels, in `dark` (the dark pixels of the band from `origin`).
 std::optional<std::array<Vec2, 4>> quad_of_outline(
     std::initializer_list<const std::vector<cv::Point>*> outlines,
-    const std::vector<cv::Point>& hull, double dark_area) {
+    const std::vector<cv::Point>& hull, double enclosed, const cv::Mat& dark, cv::Point origin) {
   // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
   std::vector<cv::Point> poly;
   cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
   if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
-  if (cv::contourArea(hull) < 0.9 * cv::contourArea(poly) ||
-      dark_area < 0.5 * cv::contourArea(hull))
-    return std::nullopt;
+  const double hull_area = cv::contourArea(hull);
+  if (hull_area < 0.9 * cv::contourArea(poly)) return std::nullopt;
+  // Half the hull must be dark. A closed outline encloses its white data cells too; one open to
+  // a side (a border row no ring crossed, and a white data cell next to it: an OS1-64's 40 cm tag
+  // at 5-6 m) encloses little more than its own pixels, so those are counted.
+  if (enclosed < 0.5 * hull_area) {
+    const auto [dark_inside, inside] = dark_pixels_in_hull(dark, origin, hull);
+    if (dark_inside < 0.5 * inside) return std::nullopt;
+  }
   // Per side, the outermost outline point at each step along it, between its vertices (ends
   // trimmed: staircase corners), and of those the ones within a pixel and a half of the side's
   // outer envelope (the upper quartile of the steps): white data cells next to a border row no
@@ -85,16 +110,24 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
     found.clear();
     for (float out : outermost)
       if (out > -1e9f) found.push_back(out);
-    if (found.size() < 3) return std::nullopt;
-    const auto upper_quartile = found.begin() + static_cast<std::ptrdiff_t>(found.size() * 3 / 4);
-    std::nth_element(found.begin(), upper_quartile, found.end());
-    const float deepest = *upper_quartile - kEnvelopeDepth;
     std::size_t kept = 0;
-    for (std::size_t i = 0; i < side.size(); ++i)
-      if (outermost[i] > -1e9f && outermost[i] >= deepest) side[kept++] = side[i];
+    if (found.size() >= 3) {
+      const auto upper_quartile =
+          found.begin() + static_cast<std::ptrdiff_t>(found.size() * 3 / 4);
+      std::nth_element(found.begin(), upper_quartile, found.end());
+      const float deepest = *upper_quartile - kEnvelopeDepth;
+      for (std::size_t i = 0; i < side.size(); ++i)
+        if (outermost[i] > -1e9f && outermost[i] >= deepest) side[kept++] = side[i];
+    }
     side.resize(kept);
-    if (side.size() < 3) return std::nullopt;
-    cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
+    if (side.size() >= 3) {
+      cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
+    } else {
+      // Too few outline points along the side to fit (a border row no ring crossed, with white
+      // data cells under it): the hull's edge. Ring decoding searches where the top and bottom
+      // sides lie.
+      lines[k] = cv::Vec4f(dir.x / len, dir.y / len, a.x, a.y);
+    }
   }
   std::array<Vec2, 4> quad;
   for (int k = 0; k < 4; ++k) {
@@ -140,7 +173,7 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       continue;
     DarkBlob blob{&contour, box, cv::contourArea(contour), {}};
     if (may_hold_square(contour.size(), box, min_side_px, image)) {
-      if (const auto quad = quad_of_outline({&contour}, hull_of(blob), blob.area))
+      if (const auto quad = quad_of_outline({&contour}, hull_of(blob), blob.area, dark, band.tl()))
         quads.push_back(*quad);
     }
     parts.push_back(std::move(blob));
@@ -175,7 +208,7 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       hulls.assign(hull_a.begin(), hull_a.end());
       hulls.insert(hulls.end(), hull_b.begin(), hull_b.end());
       cv::convexHull(hulls, hull);
-      if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area))
+      if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, dark, band.tl()))
         quads.push_back(*quad);
     }
   }

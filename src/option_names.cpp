@@ -1,7 +1,10 @@
 #include "iilfm/option_names.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 
 #include "iilfm/error.hpp"
 
@@ -92,6 +95,49 @@ void set_given_threshold(double threshold, PipelineOptions& options) {
   options.preprocess.threshold = threshold;
   options.preprocess.replace_threshold_above_all = false;
   options.retry_with_otsu = false;
+}
+
+std::vector<int> parse_id_list(const std::string& text) {
+  // Larger than any family (tagStandard52h13 has 48714 ids): a typo, not a list.
+  constexpr long kMostIds = 100000;
+  const auto refuse = [&](const std::string& why) {
+    return InputError("--ids must be ids and ranges such as 0,3,10-19, got '" + text + "': " + why);
+  };
+  const auto number = [&](const std::string& word) {
+    std::size_t used = 0;
+    long value = -1;
+    try {
+      value = std::stol(word, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (word.empty() || used != word.size() || value < 0 || value >= kMostIds ||
+        !std::isdigit(static_cast<unsigned char>(word[0])))
+      throw refuse("'" + word + "' is not an id");
+    return static_cast<int>(value);
+  };
+  std::vector<int> ids;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    const std::size_t dash = item.find('-');
+    if (dash == std::string::npos) {
+      ids.push_back(number(item));
+    } else {
+      const int first = number(item.substr(0, dash)), last = number(item.substr(dash + 1));
+      if (last < first) throw refuse("the range '" + item + "' runs backwards");
+      for (int id = first; id <= last; ++id) ids.push_back(id);
+    }
+    if (ids.size() > static_cast<std::size_t>(kMostIds)) throw refuse("too many ids");
+    start = comma + 1;
+  }
+  return ids;
+}
+
+void set_known_ids(const std::vector<int>& ids, PipelineOptions& options) {
+  for (const std::string& family : options.families) options.known_ids[family] = ids;
+  options.only_known_ids = true;
 }
 
 }  // namespace iilfm

@@ -204,6 +204,23 @@ Pipeline::Pipeline(PipelineOptions options)
     throw InputError("--marker-size must be positive (metres)");
   for (const std::string& family : options_.families)
     detectors_.push_back(make_detector(family, options_.detector));
+  known_ids_ = options_.known_ids;
+  if (options_.map)
+    for (const MapMarker& m : options_.map->markers()) known_ids_[m.family].push_back(m.id);
+  for (auto& [family, ids] : known_ids_) {
+    const int count = family_layout(family).ids;
+    for (int id : ids)
+      if (id < 0 || (count > 0 && id >= count))
+        throw InputError("marker id " + std::to_string(id) + " is not in " + family + " (ids 0.." +
+                         std::to_string(count - 1) + ")");
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  }
+}
+
+bool Pipeline::known(const Detection& d) const {
+  const auto ids = known_ids_.find(d.family);
+  return ids != known_ids_.end() && std::binary_search(ids->second.begin(), ids->second.end(), d.id);
 }
 
 Pipeline::~Pipeline() = default;
@@ -340,8 +357,9 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
   // The families' cell code books, built once the first image with ring rows arrives (tens of
   // milliseconds for tag36h11: a Livox user never pays it).
   if (options_.ring_decode && !ring_decoder_ && r.image.geometry.ring_rows())
-    ring_decoder_ =
-        std::make_unique<detail::RingDecoder>(options_.families, detail::RingDecodeSettings{});
+    ring_decoder_ = std::make_unique<detail::RingDecoder>(options_.families,
+                                                          detail::RingDecodeSettings{}, known_ids_,
+                                                          options_.only_known_ids);
   keep_measured_detections(detections, r);
   if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
     // Only where no detector reported a marker: a detection there was already checked.
@@ -354,6 +372,10 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
                                      ring_intensity(r), decoded, covered);
     for (Detection& d : decoded) detections.push_back(std::move(d));
   }
+  if (options_.only_known_ids)
+    detections.erase(std::remove_if(detections.begin(), detections.end(),
+                                    [&](const Detection& d) { return !known(d); }),
+                     detections.end());
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;

@@ -10,6 +10,7 @@
 
 #include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
+#include "iilfm/error.hpp"
 #include "iilfm/square_pixels.hpp"
 #include "seam_detection.hpp"
 
@@ -39,7 +40,7 @@ constexpr double kMinTiedShare = 0.4;
 //   match: its security bits pay log2 of the number of distinct readings (measured: the two
 //   VLP-16 scans above had 30-odd, where 34 of 142 placings read the right id with no error and
 //   the middle one read 4 errors).
-void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& samples,
+void resolve_tied_placings(const FamilyCodeBooks& books, const MarkerSamples& samples,
                            const CellReadOptions& read_options,
                            const std::vector<std::pair<double, double>>& tied,
                            const DecodeLimits& limits, double min_security_bits, RingRead& out) {
@@ -48,6 +49,7 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
     const DecodeResult* decoded = nullptr;  // shared by the placings that read the same bits
     std::pair<double, double> placing;
   };
+  const CellCodeBook& book = *books.all;
   using Bits = std::pair<std::uint64_t, std::uint64_t>;  // (white & known, known)
   const auto bits_of = [](const CellReading& c) {
     return Bits{c.bits.white & c.bits.known, c.bits.known};
@@ -70,10 +72,10 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
   // frame).
   const int hypotheses = static_cast<int>(decodings.size());
   if (!out.decoded.accepted &&
-      chance_match_bits(book, most_known, 0, hypotheses) < min_security_bits)
+      chance_match_bits(books.smallest(), most_known, 0, hypotheses) < min_security_bits)
     return;
   for (auto& [bits, decoded] : decodings)
-    decoded = decode_cells(book, BitReading{bits.first, bits.second}, limits);
+    decoded = books.decode(BitReading{bits.first, bits.second}, limits);
   std::map<std::pair<int, int>, int> votes;
   int accepted = 0;
   for (Reading& r : readings) {
@@ -110,7 +112,7 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
         (!strongest || r.decoded->security_bits > strongest->decoded->security_bits))
       strongest = &r;
   if (!strongest) return;  // own > 0 above: not reached
-  const DecodeResult paid = decode_cells(book, strongest->cells.bits, limits, hypotheses);
+  const DecodeResult paid = books.decode(strongest->cells.bits, limits, hypotheses);
   if (out.decoded.accepted && paid.security_bits <= out.decoded.security_bits) return;
   out.cells = strongest->cells;
   out.shift_top = strongest->placing.first;
@@ -120,17 +122,45 @@ void resolve_tied_placings(const CellCodeBook& book, const MarkerSamples& sample
 
 }  // namespace
 
-RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings)
+DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimits& limits,
+                                     int hypotheses) const {
+  if (known && only_known) return decode_cells(*known, reading, limits, hypotheses);
+  DecodeResult result = decode_cells(*all, reading, limits, hypotheses);
+  // Only when the family's nearest code is nearer than every other: a marker of an id not known
+  // is then not taken for a known one (its own code would be nearer).
+  if (result.accepted || !known || !(result.errors < result.runner_up_errors)) return result;
+  const DecodeResult among_known = decode_cells(*known, reading, limits, hypotheses);
+  if (among_known.accepted && among_known.id == result.id &&
+      among_known.quarter_turns == result.quarter_turns)
+    return among_known;
+  return result;
+}
+
+RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings,
+                         const std::map<std::string, std::vector<int>>& known_ids,
+                         bool only_known)
     : settings_(settings) {
   for (const std::string& family : families) {
     if (books_.count(family)) continue;
     std::unique_ptr<CellCodeBook> book = CellCodeBook::for_family(family);
-    if (book) books_.emplace(family, std::move(book));
+    if (!book) continue;
+    FamilyCodeBooks books;
+    const auto known = known_ids.find(family);
+    if (known != known_ids.end() && !known->second.empty()) {
+      try {
+        books.known = std::make_unique<CellCodeBook>(book->restricted_to(known->second));
+      } catch (const InputError& e) {
+        throw InputError(family + ": " + e.what());
+      }
+    }
+    books.all = std::move(book);
+    books.only_known = only_known;
+    books_.emplace(family, std::move(books));
   }
 }
 
 DecodeLimits RingDecoder::limits(const std::string& family) const {
-  const CellCodeBook& book = *books_.at(family);
+  const CellCodeBook& book = *books_.at(family).all;
   DecodeLimits limits;
   limits.max_errors = std::max(0, (book.min_distance() - 1) / 2);
   limits.min_distance_margin = settings_.min_distance_margin;
@@ -144,7 +174,8 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   RingRead out;
   const auto it = books_.find(family);
   if (it == books_.end()) return out;
-  const CellCodeBook& book = *it->second;
+  const FamilyCodeBooks& books = it->second;
+  const CellCodeBook& book = *books.all;
   const MarkerSamples samples(corners_px, image, intensity, book);
   if (samples.empty()) return out;
   CellReadOptions read_options = settings_.read;
@@ -236,9 +267,9 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   out.shift_bottom = nearest->second;
   out.cells = samples.read(out.shift_top, out.shift_bottom, book, read_options, scratch);
   out.read = true;
-  out.decoded = decode_cells(book, out.cells.bits, limits(family));
+  out.decoded = books.decode(out.cells.bits, limits(family));
   if (candidate)
-    resolve_tied_placings(book, samples, read_options, best, limits(family),
+    resolve_tied_placings(books, samples, read_options, best, limits(family),
                           settings_.candidate_min_security_bits, out);
   out.corners_px = samples.corners_at(out.shift_top, out.shift_bottom, image.geometry);
   return out;
@@ -262,7 +293,7 @@ RingVerdict RingDecoder::verify(Detection& d, const ProjectedImage& image,
                 d.corners_px.end());
     return RingVerdict::kCorrected;
   }
-  const int errors = errors_against(*books_.at(d.family), r.cells.bits, d.id);
+  const int errors = errors_against(*books_.at(d.family).all, r.cells.bits, d.id);
   return errors > limits(d.family).max_errors ? RingVerdict::kContradicted
                                               : RingVerdict::kUndecided;
 }
@@ -277,7 +308,7 @@ constexpr double kMinCandidateMargin = 0.5;
 // from the samples at their own azimuths and elevations, so 1.6 columns a cell still decode (a 40
 // cm tag36h11 at 5 m on an OS1-64 at 1024 columns spans 13 columns: 25 of 50 seeds found, 12 with
 // 2 pixels a cell; its 1 m tag at 12 m 21 of 30, 3 before).
-constexpr double kMinCandidatePixelsPerCell = 1.5;
+constexpr double kMinCandidatePixelsPerCell = 1.25;
 
 }  // namespace
 
@@ -288,7 +319,8 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
                                     const std::function<bool(const Vec2&)>& known) const {
   if (books_.empty() || detect_gray.empty()) return;
   int min_cells = 1 << 30;
-  for (const auto& entry : books_) min_cells = std::min(min_cells, entry.second->border_width());
+  for (const auto& entry : books_)
+    min_cells = std::min(min_cells, entry.second.all->border_width());
   const std::size_t before = out.size();
   const double min_side_px = kMinCandidatePixelsPerCell * min_cells;
   // A full-circle image's columns one turn apart point the same way: a detection across the seam
@@ -308,9 +340,9 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       projected[k] = map_pixel(detect_corners[k], detect_geometry, image.geometry);
     if (known_at(0.25 * (projected[0] + projected[1] + projected[2] + projected[3]))) return;
     std::vector<std::pair<const std::string*, RingRead>> reads;
-    for (const auto& [family, book] : books_) {
+    for (const auto& [family, books] : books_) {
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
-      if (quiet_zone_fraction(quad_gray, corners, book->border_width()) < kMinCandidateMargin)
+      if (quiet_zone_fraction(quad_gray, corners, books.all->border_width()) < kMinCandidateMargin)
         continue;
       RingRead r = read(family, projected, image, intensity, true);
       if (r.read) reads.emplace_back(&family, std::move(r));

@@ -51,6 +51,22 @@ struct RingRead {
   std::array<Vec2, 4> corners_px = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
 };
 
+// A family's code books: every code, and the codes of the ids known to be in the scene alone.
+struct FamilyCodeBooks {
+  std::unique_ptr<CellCodeBook> all;
+  std::unique_ptr<CellCodeBook> known;  // null when no id of the family is known
+  bool only_known = false;               // no other id is in the scene
+
+  // decode_cells over the known codes alone when only they are in the scene; otherwise over
+  // every code, and a reading with too few chance-match bits for the whole family whose nearest
+  // code is a known one (nearer than any other) decoded over the known codes alone, with their
+  // fewer chances of a match.
+  DecodeResult decode(const BitReading& reading, const DecodeLimits& limits,
+                      int hypotheses = 1) const;
+  // The book a reading's chance-match bits are best counted in: the known codes' when there are.
+  const CellCodeBook& smallest() const { return known ? *known : *all; }
+};
+
 enum class RingVerdict {
   kConfirmed,     // the samples decode to the detection's id and rotation
   kCorrected,     // they decode safely to another id or rotation (the detection was changed)
@@ -60,7 +76,11 @@ enum class RingVerdict {
 
 class RingDecoder {
  public:
-  RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings);
+  // `known_ids`: ids known to be in the scene, per family (PipelineOptions::known_ids; InputError
+  // for an id outside its family), and `only_known`: no other id is (only_known_ids).
+  RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings,
+              const std::map<std::string, std::vector<int>>& known_ids = {},
+              bool only_known = false);
 
   bool supports(const std::string& family) const { return books_.count(family) > 0; }
 
@@ -89,7 +109,7 @@ class RingDecoder {
 
  private:
   RingDecodeSettings settings_;
-  std::map<std::string, std::unique_ptr<CellCodeBook>> books_;
+  std::map<std::string, FamilyCodeBooks> books_;
 };
 
 }  // namespace iilfm::detail

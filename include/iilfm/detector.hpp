@@ -143,6 +143,7 @@ struct FamilyLayout {
   int border_width = 0;
   int total_width = 0;
   int min_distance = 0;  // smallest Hamming distance between two codes (0 = unknown)
+  int ids = 0;           // the family's ids are 0 .. ids - 1
 };
 FamilyLayout family_layout(const std::string& family);
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "iilfm/pipeline.hpp"
 
@@ -37,5 +38,13 @@ void set_threshold(const std::string& text, PipelineOptions& options);
 // A fixed threshold the user gives (--threshold T, Python threshold=T): kept as given, never
 // replaced by Otsu's above every intensity nor retried at Otsu's when it finds nothing.
 void set_given_threshold(double threshold, PipelineOptions& options);
+
+// --ids as text: ids and ranges, "0,3,10-19"; InputError naming --ids for anything else.
+std::vector<int> parse_id_list(const std::string& text);
+
+// --ids, Python ids=: the markers in the scene are `ids` of every family in options.families
+// (set those first). Only they are reported, and ring-sample decoding reads them from fewer ring
+// samples (PipelineOptions::known_ids, only_known_ids).
+void set_known_ids(const std::vector<int>& ids, PipelineOptions& options);
 
 }  // namespace iilfm

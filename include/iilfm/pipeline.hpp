@@ -10,6 +10,7 @@
 // Pipeline's until its next process() call.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -69,6 +70,12 @@ struct PipelineOptions {
   // range beyond one ring per cell row, and the ring phases where the detectors miss). Costs
   // nothing without such a square, a few milliseconds a VLP-16 frame with one (docs/pipeline.md).
   bool ring_candidates = true;
+  // Ids known to be in the scene, per family ({"apriltag:tag36h11", {0, 3}}), besides the map's,
+  // which are always known. Ring-sample decoding reads a known id from fewer ring samples: its
+  // chance-match bits count only the known codes (docs/pipeline.md). `--ids` sets it.
+  std::map<std::string, std::vector<int>> known_ids;
+  // Report only markers whose id is known (known_ids or the map). `--ids` sets it.
+  bool only_known_ids = false;
   // Threads lifting the markers of a frame (edge refinement, plane fit and pose, one marker per
   // thread at a time), used with several markers in a cloud of at least 32k points; a single
   // marker's plane fit gathers its points on them (PlaneFitOptions::threads). Same results for
@@ -166,6 +173,8 @@ class Pipeline {
   std::vector<Detection> detect_markers(const DetectorImages& images, FrameResult& r);
   // Otsu's threshold when PipelineOptions::retry_with_otsu applies to this frame's fixed one.
   std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
+  // Whether `d`'s id is known to be in the scene (known_ids_).
+  bool known(const Detection& d) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
   // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`);
@@ -181,6 +190,8 @@ class Pipeline {
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
   std::unique_ptr<detail::RingDecoder> ring_decoder_;  // from the first ring-row image
+  // PipelineOptions::known_ids and the map's ids, per family, sorted and each once.
+  std::map<std::string, std::vector<int>> known_ids_;
   FrameResult result_;
   cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
 };

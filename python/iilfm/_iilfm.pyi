@@ -153,6 +153,7 @@ class Pipeline:
         res_h: float | None = None,
         res_v: float | None = None,
         marker_size: float | None = None,
+        ids: Sequence[int] | None = None,
         threshold: float | str | None = None,
         lift: str = "plane",
         collision: str = "mean",

@@ -28,6 +28,7 @@ struct Options {
   std::vector<std::string> markers;
   std::optional<std::string> map;
   std::optional<double> res_h, res_v, marker_size;
+  std::optional<std::vector<int>> ids;
   py::object threshold;
   std::string normalise_intensity;  // empty: the preset's
   std::string lift = "plane", collision = "mean", aruco_refine = "contour";
@@ -88,6 +89,7 @@ PipelineOptions pipeline_options(const Options& a) {
   require_range(a.aruco_window_step, 1, 255, "--aruco-window-step");
 
   if (!a.markers.empty()) options.families = a.markers;
+  if (a.ids) set_known_ids(*a.ids, options);
   options.detector.apriltag.decimate = a.decimate;
   options.detector.apriltag.sigma = a.quad_sigma;
   options.detector.apriltag.refine_edges = a.refine_edges;
@@ -508,7 +510,7 @@ void register_pipeline(py::module_& m) {
       .def(py::init([](std::optional<std::string> sensor, std::vector<std::string> markers,
                        std::optional<std::filesystem::path> map, std::optional<double> res_h,
                        std::optional<double> res_v, std::optional<double> marker_size,
-                       py::object threshold, std::string lift, std::string collision, double blur,
+                       std::optional<std::vector<int>> ids, py::object threshold, std::string lift, std::string collision, double blur,
                        bool gray, float decimate, float quad_sigma, bool refine_edges, int threads,
                        int max_hamming, std::string aruco_refine, int aruco_window_min,
                        int aruco_window_max, int aruco_window_step, std::string pose_refine,
@@ -521,6 +523,7 @@ void register_pipeline(py::module_& m) {
              o.res_h = res_h;
              o.res_v = res_v;
              o.marker_size = marker_size;
+             o.ids = std::move(ids);
              o.threshold = std::move(threshold);
              o.lift = std::move(lift);
              o.collision = std::move(collision);
@@ -546,7 +549,7 @@ void register_pipeline(py::module_& m) {
            py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
            py::arg("map") = py::none(), py::kw_only(), py::arg("res_h") = py::none(),
            py::arg("res_v") = py::none(), py::arg("marker_size") = py::none(),
-           py::arg("threshold") = py::none(), py::arg("lift") = "plane",
+           py::arg("ids") = py::none(), py::arg("threshold") = py::none(), py::arg("lift") = "plane",
            py::arg("collision") = "mean", py::arg("blur") = 0.0, py::arg("gray") = false,
            py::arg("decimate") = 1.0f, py::arg("quad_sigma") = 0.0f, py::arg("refine_edges") = true,
            py::arg("threads") = 1, py::arg("max_hamming") = -1, py::arg("aruco_refine") = "contour",
@@ -565,6 +568,8 @@ void register_pipeline(py::module_& m) {
            "markers: families, e.g. ['apriltag:tag36h11', 'aruco:DICT_4X4_50'] "
            "(default apriltag:tag36h11).\n"
            "map: marker map YAML path; enables the LiDAR pose.\n"
+           "ids: the ids of the markers in the scene (every family), as --ids: only they are "
+           "reported, and sparse rings read them farther (the map's ids are always read so).\n"
            "Other keywords are `iilfm detect`'s options with '-' as '_' (threshold: number or "
            "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
            "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "

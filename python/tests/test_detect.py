@@ -234,3 +234,14 @@ def test_a_ring_marker_alone_has_a_pose_whose_turn_is_a_convention():
     # the conventional turn right.
     assert np.degrees(np.arccos(np.clip(estimated[:3, 2] @ true[:3, 2], -1, 1))) < 0.5
     assert estimated[:3, 1] @ true[:3, 1] > np.cos(np.radians(0.5))
+
+
+def test_ids_report_only_the_markers_given(scan):
+    everything = iilfm.Pipeline(sensor="mid40").detect(iilfm.read_cloud(scan["pcd"]))
+    found = sorted(m.id for m in everything.markers)
+    assert len(found) >= 10
+    wanted = [found[0], found[3], 34 if found[-1] != 34 else 33]
+    some = iilfm.Pipeline(sensor="mid40", ids=wanted).detect(iilfm.read_cloud(scan["pcd"]))
+    assert sorted(m.id for m in some.markers) == sorted(set(wanted) & set(found))
+    with pytest.raises(iilfm.InputError, match="marker id 600 is not in apriltag:tag36h11"):
+        iilfm.Pipeline(sensor="mid40", ids=[0, 600])

@@ -225,7 +225,8 @@ FamilyLayout apriltag_layout(const std::string& tag_family) {
   const AprilTagFamilyEntry* entry = find_apriltag_family(tag_family);
   if (!entry) throw InputError("unknown AprilTag family 'apriltag:" + tag_family + "'");
   apriltag_family_t* family = entry->create();
-  FamilyLayout layout{family->width_at_border, family->total_width, static_cast<int>(family->h)};
+  FamilyLayout layout{family->width_at_border, family->total_width, static_cast<int>(family->h),
+                      static_cast<int>(family->ncodes)};
   entry->destroy(family);
   return layout;
 }

@@ -260,7 +260,7 @@ FamilyLayout aruco_layout(const std::string& dictionary) {
     const std::string family = dictionary.substr(14);
     distance = family == "16h5" ? 5 : family == "25h9" ? 9 : family == "36h10" ? 10 : 11;
   }
-  return FamilyLayout{bits + 2, bits + 4, distance};
+  return FamilyLayout{bits + 2, bits + 4, distance, dict->bytesList.rows};
 }
 
 }  // namespace iilfm::detail

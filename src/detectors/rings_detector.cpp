@@ -281,7 +281,7 @@ FamilyLayout rings_layout(const std::string& family) {
   const RingsFamily& f = find_rings_family(family);
   const int across = 2 * f.annuli();
   const int quiet = static_cast<int>(std::lround(kRingsQuietZone * f.annuli()));
-  return {across, across + 2 * quiet, f.min_distance};
+  return {across, across + 2 * quiet, f.min_distance, static_cast<int>(f.codes.size())};
 }
 
 }  // namespace iilfm::detail

@@ -7,6 +7,8 @@
 #include <random>
 
 #include "../../src/cell_code_book.hpp"
+#include "../../src/ring_decoding.hpp"
+#include "iilfm/error.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/detector.hpp"
 
@@ -190,6 +192,70 @@ TEST(DecodeCells, ErrorsAgainstCountsKnownBitsOnly) {
   r.known &= ~std::uint64_t{1};
   EXPECT_EQ(errors_against(*book, r, 7), 1);
   EXPECT_EQ(errors_against(*book, r, 8), popcount((book->code(8, 0) ^ r.white) & r.known));
+}
+
+// A book of some ids alone numbers its codes in the order given and reports their ids; a
+// reading too thin for the whole family is safe among a few codes.
+TEST(CellCodeBook, ARestrictedBookDecodesItsIdsWithFewerChancesOfAMatch) {
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  const CellCodeBook few = book->restricted_to({17, 5, 17});
+  ASSERT_EQ(few.codes(), 2);  // the repeated id once
+  EXPECT_EQ(few.id_at(0), 17);
+  EXPECT_EQ(few.id_at(1), 5);
+  EXPECT_EQ(few.code(0, 2), book->code(17, 2));
+  EXPECT_EQ(few.border_width(), book->border_width());
+  BitReading r = all_known(book->code(5, 3), 36);
+  r.known = (std::uint64_t{1} << 16) - 1;  // 16 known bits
+  const DecodeResult all = decode_cells(*book, r, DecodeLimits{});
+  EXPECT_FALSE(all.accepted);  // 16 - log2(4 x 587) = 4.8 bits
+  const DecodeResult among_few = decode_cells(few, r, DecodeLimits{});
+  EXPECT_TRUE(among_few.accepted);
+  EXPECT_EQ(among_few.id, 5);
+  EXPECT_EQ(among_few.quarter_turns, 3);
+  EXPECT_NEAR(among_few.security_bits, 16 - std::log2(4.0 * 2), 1e-9);
+  EXPECT_THROW(book->restricted_to({0, 587}), InputError);
+  EXPECT_THROW(book->restricted_to({-1}), InputError);
+}
+
+// The ids known to be in a scene (a map's) decode from fewer bits, but only where the family's
+// nearest code is the known one: a marker of another id is not taken for it. Unless only the
+// known ids are in the scene (`--ids`).
+TEST(FamilyCodeBooks, AKnownIdIsReadFromFewerBitsUnlessAnotherCodeIsNearer) {
+  FamilyCodeBooks books;
+  books.all = CellCodeBook::for_family("apriltag:tag36h11");
+  books.known = std::make_unique<CellCodeBook>(books.all->restricted_to({17}));
+  DecodeLimits limits;
+  limits.max_errors = 5;
+  // 20 bits of id 17 read right: 20 - log2(4 x 587) = 8.8 bits for the family, 18 for one id.
+  BitReading r = all_known(books.all->code(17, 1), 36);
+  r.known = (std::uint64_t{1} << 20) - 1;
+  ASSERT_FALSE(decode_cells(*books.all, r, limits).accepted);
+  ASSERT_GT(decode_cells(*books.all, r, limits).runner_up_errors, 0);
+  DecodeResult d = books.decode(r, limits);
+  EXPECT_TRUE(d.accepted);
+  EXPECT_EQ(d.id, 17);
+  EXPECT_EQ(d.quarter_turns, 1);
+  EXPECT_NEAR(d.security_bits, 20 - std::log2(4.0), 1e-9);
+  // Id 300 read on 18 bits where it and id 17 agree and 2 where they differ: no error against
+  // 300, 2 against 17, which among the known codes alone would decode (20 - 2 - log2 211 = 10.3
+  // bits).
+  const std::uint64_t code17 = books.all->code(17, 0), code300 = books.all->code(300, 0);
+  BitReading other{code300, 0};
+  int agreeing = 0, differing = 0;
+  for (int k = 0; k < 36; ++k) {
+    const bool same = ((code17 ^ code300) >> k & 1u) == 0;
+    if (same ? agreeing++ < 18 : differing++ < 2) other.known |= std::uint64_t{1} << k;
+  }
+  ASSERT_EQ(popcount(other.known), 20);
+  ASSERT_EQ(decode_cells(*books.all, other, limits).id, 300);
+  ASSERT_EQ(errors_against(*books.all, other, 17), 2);
+  ASSERT_TRUE(decode_cells(*books.known, other, limits).accepted);
+  d = books.decode(other, limits);
+  EXPECT_FALSE(d.accepted && d.id == 17);
+  books.only_known = true;  // told no other id is in the scene
+  d = books.decode(other, limits);
+  EXPECT_TRUE(d.accepted);
+  EXPECT_EQ(d.id, 17);
 }
 
 }  // namespace

@@ -94,6 +94,34 @@ TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
   EXPECT_LT(distance_to_nearest_quad(quads, dark_corners(100, 30, 1)), 1.0);
 }
 
+TEST(DarkQuads, ASquareOpenAtAMissingBorderRowIsFound) {
+  // The top border row missing and the data cells under it white, down into a white middle: the
+  // blob is a cup, whose outline encloses little more than its own pixels, though more than half
+  // the square is dark (an OS1-64's 40 cm tag at 5-6 m).
+  std::vector<cv::Point> white;
+  for (int col = 0; col < kCells; ++col) white.emplace_back(col, 0);
+  for (int row = 1; row <= 3; ++row)
+    for (int col = 1; col <= 6; ++col) white.emplace_back(col, row);
+  for (int row = 4; row <= 5; ++row)
+    for (int col = 3; col <= 4; ++col) white.emplace_back(col, row);
+  const cv::Mat image = square_with_white_cells(100, 30, white);
+  const auto quads = detail::dark_quads(image, 2.0 * kCells, kCells);
+  EXPECT_LT(distance_to_nearest_quad(quads, dark_corners(100, 30, 1)), 1.0);
+}
+
+TEST(DarkQuads, ASideWithTooFewOutlinePointsIsTheHullsEdge) {
+  // The top border row missing and the two data rows under it white: along the top, between the
+  // side columns, the outline lies two cell rows down, too deep to fit a side to. The hull's edge
+  // is the side (ring decoding then searches where it lies).
+  std::vector<cv::Point> white;
+  for (int col = 0; col < kCells; ++col) white.emplace_back(col, 0);
+  for (int row = 1; row <= 2; ++row)
+    for (int col = 1; col <= 6; ++col) white.emplace_back(col, row);
+  const cv::Mat image = square_with_white_cells(100, 30, white);
+  const auto quads = detail::dark_quads(image, 2.0 * kCells, kCells);
+  EXPECT_LT(distance_to_nearest_quad(quads, dark_corners(100, 30, 1)), 1.0);
+}
+
 TEST(DarkQuads, NeighbouringSquaresAreNotJoined) {
   // Squares side by side with the white margins of two markers between them (two cells), and
   // with one marker's margin alone (one cell).

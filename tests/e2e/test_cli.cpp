@@ -236,6 +236,23 @@ TEST(Cli, PrintAboveThePresetsThresholdIsFoundAtOtsusAndSaid) {
   EXPECT_NE(r.out.find("markers in 2, LiDAR pose in 2"), std::string::npos) << r.out;
 }
 
+TEST(Cli, IdsReportOnlyTheMarkersGiven) {
+  const fs::path d = cli_temp_dir();
+  const std::string pcd = (d / "ids.pcd").string(), json = (d / "ids.json").string();
+  ASSERT_EQ(run_cli("sim --scene tag-wall --frames 20 --out " + pcd).status, 0);  // tag36h11 id 0
+  CliRun r = run_cli("detect " + pcd + " --sensor mid40 --ids 0,5-7 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(json))["markers"].size(), 1u);
+  r = run_cli("detect " + pcd + " --sensor mid40 --ids 1-3,7 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(json))["markers"].size(), 0u);
+  expect_input_error("detect " + pcd + " --sensor mid40 --ids 3-1", "--ids");
+  expect_input_error("detect " + pcd + " --sensor mid40 --ids 0,,2", "--ids");
+  expect_input_error("detect " + pcd + " --sensor mid40 --ids zero", "--ids");
+  expect_input_error("detect " + pcd + " --sensor mid40 --ids 587",
+                     "marker id 587 is not in apriltag:tag36h11 (ids 0..586)");
+}
+
 TEST(Cli, SpinningPresetTakesTheColumnsOfTheCloudsMode) {
   // The simulated OS1-128 runs 2048 columns, its preset assumes 1024 (the sensor's default mode).
   // A 40 cm tag at 7 m: found in the cloud's 2048 columns, lost when they are merged in pairs.

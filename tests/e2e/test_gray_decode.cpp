@@ -33,6 +33,8 @@ Found found_at(double distance_m, int seeds) {
       // columns pipeline_options_for takes from the scan): cells 1.6 pixels wide at 5 m.
       options.projection.res_h_deg = 360.0 / 1024;
       options.detector.apriltag.decode_gray = gray;
+      // Gray decoding alone: the ring candidates read most of the rest from the rings.
+      options.ring_candidates = false;
       Pipeline pipeline(options);
       const eval::CaseScore s = eval::score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
       (gray ? found.gray : found.binary) += s.detected > 0 ? 1 : 0;
@@ -54,7 +56,7 @@ TEST(GrayDecode, ReadsSmallOusterMarkersTheBinaryImageLoses) {
   EXPECT_EQ(at5.false_positives, 0);
   EXPECT_GT(at5.gray, at5.binary);
 #ifdef NDEBUG
-  // Measured: gray 10, binary 6 of 10 at 5 m; gray 7, binary 4 at 6 m.
+  // Measured (session 25): gray 10, binary 6 of 10 at 5 m; gray 8, binary 4 at 6 m.
   EXPECT_GE(at5.gray, 9);
   EXPECT_LE(at5.binary, 7);
   const Found at6 = found_at(6.0, kSeeds);

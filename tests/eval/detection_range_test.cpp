@@ -30,8 +30,8 @@ TEST(DetectionRange, RingRowsFindAMarkerThePaperSettingsMissOnTheUltraPuck) {
 }
 
 // On the VLP-16 the limit is geometric: a tag36h11 needs about a ring per cell row, and both
-// settings see the same rings. The walk must still find the 40 cm tag up close and lose it by 2 m,
-// where 5.7 rings cross its 8 cell rows and only a few placements leave enough cells read.
+// settings see the same rings. The walk must still find the 40 cm tag up close and not reliably at
+// 2 m, where 5.7 rings cross its 8 cell rows and some placements leave too few cells read.
 TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   RangeQuery query;
   query.sensor = "vlp16";
@@ -42,8 +42,9 @@ TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   ASSERT_EQ(r.size(), 1u);
   EXPECT_EQ(r[0].max_distance_m, 1.0);
   ASSERT_EQ(r[0].found.size(), 3u);
-  // Measured: 2 of 10 at 2 m since the ring candidates join a square cut in two (0 before).
-  EXPECT_LE(r[0].found[1].second, 3);
+  // Measured: 8 of 10 at 2 m since the map's id is read from fewer ring samples (session 25; 2
+  // before, 0 before the ring candidates joined a square cut in two).
+  EXPECT_LT(r[0].found[1].second, query.required);
   EXPECT_EQ(r[0].false_positives, 0);
 }
 
