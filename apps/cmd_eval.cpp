@@ -27,7 +27,6 @@ struct EvalArgs {
   bool no_search_regions = false;
   bool no_gray_decode = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
-  bool only_known_ids = false;
   double dark_dropout = 0, invalid_fraction = 0;
   bool no_jitter = false;
   std::vector<std::string> range_sensors;
@@ -82,7 +81,6 @@ int run_eval(const EvalArgs& a) {
     range.ring_candidates = a.ring_candidates;
     range.search_regions = !a.no_search_regions;
     range.gray_decode = !a.no_gray_decode;
-    range.only_known_ids = a.only_known_ids;
     range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
     return run_range_study(range);
   }
@@ -179,9 +177,6 @@ Runner register_eval_command(CLI::App& app) {
   sub->add_flag("--ring-candidates,!--no-ring-candidates", a.ring_candidates,
                 "Also decode dark squares no detector decoded from the rings (default; "
                 "PipelineOptions::ring_candidates)");
-  sub->add_flag("--only-known-ids", a.only_known_ids,
-                "range: iilfm's settings are told the scene's ids, as `iilfm detect --ids` (only "
-                "they are in it), besides its map (PipelineOptions::only_known_ids)");
   sub->add_flag("--no-search-regions", a.no_search_regions,
                 "AprilTag and ArUco search every pixel, not only around quad-shaped boundaries");
   sub->add_flag("--no-gray-decode", a.no_gray_decode,

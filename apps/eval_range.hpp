@@ -16,7 +16,6 @@ struct RangeStudyArgs {
   bool ring_candidates = true;
   bool search_regions = true;
   bool gray_decode = true;
-  bool only_known_ids = false;
 };
 
 // Prints the Markdown table on stdout and per-distance counts on stderr.

@@ -151,17 +151,14 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
   DecodeResult best;
   const int known = popcount(reading.known);
   best.erasures = book.bits() - known;
-  best.errors = best.runner_up_errors = std::numeric_limits<int>::max();
+  best.errors = std::numeric_limits<int>::max();
   for (int q = 0; q < 4; ++q)
     for (int id = 0; id < book.codes(); ++id) {
       const int errors = popcount((book.code(id, q) ^ reading.white) & reading.known);
       if (errors < best.errors) {
-        best.runner_up_errors = best.errors;
         best.errors = errors;
         best.id = id;
         best.quarter_turns = q;
-      } else if (errors < best.runner_up_errors) {
-        best.runner_up_errors = errors;
       }
     }
   if (best.id < 0) return best;

@@ -74,8 +74,6 @@ struct DecodeResult {
   bool accepted = false;
   int id = -1, quarter_turns = 0;
   int errors = 0, erasures = 0;
-  // Fewest misread bits of any other code (and rotation) of the book.
-  int runner_up_errors = 0;
   // Fewest known bits in which another code (any rotation) differs from the best one.
   int distance_to_next = 0;
   double security_bits = 0;

@@ -358,8 +358,7 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
   // milliseconds for tag36h11: a Livox user never pays it).
   if (options_.ring_decode && !ring_decoder_ && r.image.geometry.ring_rows())
     ring_decoder_ = std::make_unique<detail::RingDecoder>(options_.families,
-                                                          detail::RingDecodeSettings{}, known_ids_,
-                                                          options_.only_known_ids);
+                                                          detail::RingDecodeSettings{}, known_ids_);
   keep_measured_detections(detections, r);
   if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
     // Only where no detector reported a marker: a detection there was already checked.

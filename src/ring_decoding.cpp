@@ -124,11 +124,15 @@ void resolve_tied_placings(const FamilyCodeBooks& books, const MarkerSamples& sa
 
 DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimits& limits,
                                      int hypotheses) const {
-  if (known && only_known) return decode_cells(*known, reading, limits, hypotheses);
   DecodeResult result = decode_cells(*all, reading, limits, hypotheses);
-  // Only when the family's nearest code is nearer than every other: a marker of an id not known
-  // is then not taken for a known one (its own code would be nearer).
-  if (result.accepted || !known || !(result.errors < result.runner_up_errors)) return result;
+  // Only a reading the family's own limits would take but for its chance-match bits: its nearest
+  // code lies clearly nearer than every other code of the family. A marker of an id not known,
+  // misread, is then not taken for a known one. Nearer by a bit or two was not enough: rows of
+  // the original ArUco dictionary read from 15-20 bits lie a bit or two from several codes, and
+  // one of those read as a mapped id (VLP-16 Hi-Res, a grid at 5 m whose map listed 5 of 35).
+  const bool unambiguous = result.errors <= limits.max_errors &&
+                           2 * result.errors + limits.min_distance_margin <= result.distance_to_next;
+  if (result.accepted || !known || !unambiguous) return result;
   const DecodeResult among_known = decode_cells(*known, reading, limits, hypotheses);
   if (among_known.accepted && among_known.id == result.id &&
       among_known.quarter_turns == result.quarter_turns)
@@ -137,8 +141,7 @@ DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimi
 }
 
 RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings,
-                         const std::map<std::string, std::vector<int>>& known_ids,
-                         bool only_known)
+                         const std::map<std::string, std::vector<int>>& known_ids)
     : settings_(settings) {
   for (const std::string& family : families) {
     if (books_.count(family)) continue;
@@ -154,7 +157,6 @@ RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSet
       }
     }
     books.all = std::move(book);
-    books.only_known = only_known;
     books_.emplace(family, std::move(books));
   }
 }

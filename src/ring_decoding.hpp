@@ -55,12 +55,10 @@ struct RingRead {
 struct FamilyCodeBooks {
   std::unique_ptr<CellCodeBook> all;
   std::unique_ptr<CellCodeBook> known;  // null when no id of the family is known
-  bool only_known = false;               // no other id is in the scene
 
-  // decode_cells over the known codes alone when only they are in the scene; otherwise over
-  // every code, and a reading with too few chance-match bits for the whole family whose nearest
-  // code is a known one (nearer than any other) decoded over the known codes alone, with their
-  // fewer chances of a match.
+  // decode_cells over every code. A reading the family's limits take but for its chance-match
+  // bits, whose code is a known one, is decoded over the known codes alone: a random reading has
+  // fewer chances to match one of them.
   DecodeResult decode(const BitReading& reading, const DecodeLimits& limits,
                       int hypotheses = 1) const;
   // The book a reading's chance-match bits are best counted in: the known codes' when there are.
@@ -76,11 +74,10 @@ enum class RingVerdict {
 
 class RingDecoder {
  public:
-  // `known_ids`: ids known to be in the scene, per family (PipelineOptions::known_ids; InputError
-  // for an id outside its family), and `only_known`: no other id is (only_known_ids).
+  // `known_ids`: ids known to be in the scene, per family (PipelineOptions::known_ids); InputError
+  // for an id outside its family.
   RingDecoder(const std::vector<std::string>& families, RingDecodeSettings settings,
-              const std::map<std::string, std::vector<int>>& known_ids = {},
-              bool only_known = false);
+              const std::map<std::string, std::vector<int>>& known_ids = {});
 
   bool supports(const std::string& family) const { return books_.count(family) > 0; }
 

@@ -59,7 +59,6 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
           options.ring_decode = query.ring_decode;
           options.ring_candidates = query.ring_candidates;
           options.detector.apriltag.decode_gray = query.gray_decode;
-          options.only_known_ids = query.only_known_ids;
         }
         options.detector.apriltag.search_regions = query.search_regions;
         options.detector.aruco.search_regions = query.search_regions;

@@ -31,8 +31,6 @@ struct RangeQuery {
   bool ring_candidates = PipelineOptions{}.ring_candidates;  // and ring_candidates
   bool search_regions = AprilTagOptions{}.search_regions;    // both settings
   bool gray_decode = AprilTagOptions{}.decode_gray;          // iilfm settings
-  // iilfm settings: only the scene's ids are in it (PipelineOptions::only_known_ids, `--ids`).
-  bool only_known_ids = false;
   std::vector<double> distances = {1,  1.5, 2,  2.5, 3,  3.5, 4,  5,  6,  7,  8, 9,
                                    10, 12,  14, 16,  18, 20,  23, 26, 30, 35, 40};
 };
