@@ -199,7 +199,7 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
         << ": the print's intensity is not where the preset expects it (give --threshold to "
            "choose one)\n";
   }
-  out << r.markers.size() << " marker(s)\n";
+  out << markers_found(r.markers.size(), r.unknown_ids_dropped) << "\n";
   out << std::fixed << std::setprecision(3);
   for (const MarkerResult& m : r.markers) {
     out << "  " << m.detection.family << " id " << m.detection.id << ":";

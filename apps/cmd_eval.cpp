@@ -27,6 +27,7 @@ struct EvalArgs {
   bool no_search_regions = false;
   bool no_gray_decode = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
+  bool no_map = false;
   double dark_dropout = 0, invalid_fraction = 0;
   bool no_jitter = false;
   std::vector<std::string> range_sensors;
@@ -81,6 +82,7 @@ int run_eval(const EvalArgs& a) {
     range.ring_candidates = a.ring_candidates;
     range.search_regions = !a.no_search_regions;
     range.gray_decode = !a.no_gray_decode;
+    range.map = !a.no_map;
     range.required = (range.seeds * 9 + 9) / 10;  // 9 of 10
     return run_range_study(range);
   }
@@ -177,6 +179,8 @@ Runner register_eval_command(CLI::App& app) {
   sub->add_flag("--ring-candidates,!--no-ring-candidates", a.ring_candidates,
                 "Also decode dark squares no detector decoded from the rings (default; "
                 "PipelineOptions::ring_candidates)");
+  sub->add_flag("--no-map", a.no_map,
+                "range: detect without the scene's marker map (iilfm then knows no id)");
   sub->add_flag("--no-search-regions", a.no_search_regions,
                 "AprilTag and ArUco search every pixel, not only around quad-shaped boundaries");
   sub->add_flag("--no-gray-decode", a.no_gray_decode,

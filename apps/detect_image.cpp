@@ -63,6 +63,8 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
   for (const std::string& family : options.families)
     make_detector(family, options.detector)->detect_images(images, detections);
   drop_duplicate_detections(detections);  // one report per physical marker
+  if (options.only_known_ids)
+    result.unknown_ids_dropped = drop_unknown_ids(known_ids_of(options), detections);
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);
     for (Vec2& px : d.outline_px) px = map_pixel(px, result.preprocessed.geometry, image.geometry);
@@ -90,7 +92,7 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
     out << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
         << (options.preprocess.local_threshold ? "local (" : "") << result.preprocessed.threshold
         << (options.preprocess.local_threshold ? " where flat)" : "") << "\n"
-        << result.markers.size() << " marker(s)\n"
+        << markers_found(result.markers.size(), result.unknown_ids_dropped) << "\n"
         << std::fixed << std::setprecision(1);
     for (const MarkerResult& m : result.markers) {
       out << "  " << m.detection.family << " id " << m.detection.id << ":";

@@ -23,6 +23,7 @@ int run_range_study(const RangeStudyArgs& a) {
       query.ring_candidates = a.ring_candidates;
       query.search_regions = a.search_regions;
       query.gray_decode = a.gray_decode;
+      query.map = a.map;
       const std::vector<eval::RangeResult> results =
           eval::detection_range(query, {eval::RangeSettings::kPaper, eval::RangeSettings::kIilfm});
       for (const eval::RangeResult& r : results) {

@@ -16,6 +16,7 @@ struct RangeStudyArgs {
   bool ring_candidates = true;
   bool search_regions = true;
   bool gray_decode = true;
+  bool map = true;
 };
 
 // Prints the Markdown table on stdout and per-distance counts on stderr.

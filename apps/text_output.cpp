@@ -39,4 +39,12 @@ void write_text(const std::string& path, const std::string& text, const std::str
   if (!file || !(file << text) || !file.flush()) throw file_error(path, "cannot write " + what);
 }
 
+std::string markers_found(std::size_t reported, std::size_t unknown_ids_dropped) {
+  std::string text = std::to_string(reported) + " marker(s)";
+  if (unknown_ids_dropped > 0)
+    text += " (and " + std::to_string(unknown_ids_dropped) +
+            " of ids not given with --ids, not reported)";
+  return text;
+}
+
 }  // namespace iilfm::cli

@@ -3,6 +3,7 @@
 // report goes to stderr: stdout carries the result and nothing else.
 #pragma once
 
+#include <cstddef>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -19,6 +20,9 @@ bool stdout_claimed(const std::vector<std::pair<const char*, std::string>>& text
 
 // Where the human-readable report goes: stdout, or stderr when a result goes to stdout.
 std::ostream& report_stream(bool result_on_stdout);
+
+// The report's count of markers: "2 marker(s)", and those of ids not given with --ids.
+std::string markers_found(std::size_t reported, std::size_t unknown_ids_dropped);
 
 // Writes `text` whole to `path` (stdout for "-") and flushes it; InputError "<path>: cannot write
 // <what>" when that fails.

@@ -204,10 +204,14 @@ Pipeline::Pipeline(PipelineOptions options)
     throw InputError("--marker-size must be positive (metres)");
   for (const std::string& family : options_.families)
     detectors_.push_back(make_detector(family, options_.detector));
-  known_ids_ = options_.known_ids;
-  if (options_.map)
-    for (const MapMarker& m : options_.map->markers()) known_ids_[m.family].push_back(m.id);
-  for (auto& [family, ids] : known_ids_) {
+  known_ids_ = known_ids_of(options_);
+}
+
+KnownIds known_ids_of(const PipelineOptions& options) {
+  KnownIds known = options.known_ids;
+  if (options.map)
+    for (const MapMarker& m : options.map->markers()) known[m.family].push_back(m.id);
+  for (auto& [family, ids] : known) {
     const int count = family_layout(family).ids;
     for (int id : ids)
       if (id < 0 || (count > 0 && id >= count))
@@ -216,11 +220,19 @@ Pipeline::Pipeline(PipelineOptions options)
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   }
+  return known;
 }
 
-bool Pipeline::known(const Detection& d) const {
-  const auto ids = known_ids_.find(d.family);
-  return ids != known_ids_.end() && std::binary_search(ids->second.begin(), ids->second.end(), d.id);
+std::size_t drop_unknown_ids(const KnownIds& known, std::vector<Detection>& detections) {
+  const auto unknown =
+      std::remove_if(detections.begin(), detections.end(), [&](const Detection& d) {
+        const auto ids = known.find(d.family);
+        return ids == known.end() ||
+               !std::binary_search(ids->second.begin(), ids->second.end(), d.id);
+      });
+  const auto dropped = static_cast<std::size_t>(detections.end() - unknown);
+  detections.erase(unknown, detections.end());
+  return dropped;
 }
 
 Pipeline::~Pipeline() = default;
@@ -371,10 +383,8 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
                                      ring_intensity(r), decoded, covered);
     for (Detection& d : decoded) detections.push_back(std::move(d));
   }
-  if (options_.only_known_ids)
-    detections.erase(std::remove_if(detections.begin(), detections.end(),
-                                    [&](const Detection& d) { return !known(d); }),
-                     detections.end());
+  r.unknown_ids_dropped =
+      options_.only_known_ids ? drop_unknown_ids(known_ids_, detections) : 0;
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;
@@ -411,8 +421,10 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
       detect_markers(detector_images(r.preprocessed, options_.preprocess), r);
   r.times_ms.detect = watch.lap_ms();
   r.threshold_retry.reset();
-  const std::optional<double> otsu =
-      detections.empty() ? otsu_retry_threshold(r.preprocessed) : std::nullopt;
+  // Markers of ids not asked for (--ids) were found: the threshold shows markers.
+  const std::optional<double> otsu = detections.empty() && r.unknown_ids_dropped == 0
+                                         ? otsu_retry_threshold(r.preprocessed)
+                                         : std::nullopt;
   if (otsu) {
     binarize_at(r.preprocessed, *otsu, options_.preprocess, retry_detect_);
     r.times_ms.preprocess += watch.lap_ms();

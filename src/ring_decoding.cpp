@@ -341,11 +341,16 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
     for (int k = 0; k < 4; ++k)
       projected[k] = map_pixel(detect_corners[k], detect_geometry, image.geometry);
     if (known_at(0.25 * (projected[0] + projected[1] + projected[2] + projected[3]))) return;
+    double shortest_side = 1e9;
+    for (int k = 0; k < 4; ++k)
+      shortest_side = std::min(shortest_side, (corners[k] - corners[(k + 1) % 4]).norm());
     std::vector<std::pair<const std::string*, RingRead>> reads;
     for (const auto& [family, books] : books_) {
+      // Each family's cells must be wide enough (dark_quads took the narrowest family's).
+      const int cells = books.all->border_width();
+      if (shortest_side < kMinCandidatePixelsPerCell * cells) continue;
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
-      if (quiet_zone_fraction(quad_gray, corners, books.all->border_width()) < kMinCandidateMargin)
-        continue;
+      if (quiet_zone_fraction(quad_gray, corners, cells) < kMinCandidateMargin) continue;
       RingRead r = read(family, projected, image, intensity, true);
       if (r.read) reads.emplace_back(&family, std::move(r));
     }

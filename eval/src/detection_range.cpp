@@ -60,6 +60,7 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
           options.ring_candidates = query.ring_candidates;
           options.detector.apriltag.decode_gray = query.gray_decode;
         }
+        if (!query.map) options.map.reset();
         options.detector.apriltag.search_regions = query.search_regions;
         options.detector.aruco.search_regions = query.search_regions;
         Pipeline pipeline(options);

@@ -36,6 +36,9 @@ enum class LiftMethod {
   kPaper,  // the paper's rule: the corner pixel's range, or the angle-bisector interpolation
 };
 
+// Marker ids per family ("apriltag:tag36h11" -> {0, 3}).
+using KnownIds = std::map<std::string, std::vector<int>>;
+
 struct PipelineOptions {
   ProjectionOptions projection;
   PreprocessOptions preprocess;
@@ -73,7 +76,7 @@ struct PipelineOptions {
   // Ids known to be in the scene, per family ({"apriltag:tag36h11", {0, 3}}), besides the map's,
   // which are always known. Ring-sample decoding reads a known id from fewer ring samples: its
   // chance-match bits count only the known codes (docs/pipeline.md). `--ids` sets it.
-  std::map<std::string, std::vector<int>> known_ids;
+  KnownIds known_ids;
   // Report only markers whose id is known (known_ids or the map). `--ids` sets it.
   bool only_known_ids = false;
   // Threads lifting the markers of a frame (edge refinement, plane fit and pose, one marker per
@@ -134,7 +137,16 @@ struct FrameResult {
     std::size_t found = 0;
   };
   std::optional<ThresholdRetry> threshold_retry;
+  // PipelineOptions::only_known_ids: markers found whose ids were not known, so not reported.
+  std::size_t unknown_ids_dropped = 0;
 };
+
+// PipelineOptions::known_ids and the map's ids, per family, sorted and each once; InputError for
+// an id outside its family.
+KnownIds known_ids_of(const PipelineOptions& options);
+
+// Drops the detections whose ids `known` does not hold; returns how many.
+std::size_t drop_unknown_ids(const KnownIds& known, std::vector<Detection>& detections);
 
 // Sets the preset's image resolution, field of view, naive threshold and intensity normalisation.
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options);
@@ -173,8 +185,6 @@ class Pipeline {
   std::vector<Detection> detect_markers(const DetectorImages& images, FrameResult& r);
   // Otsu's threshold when PipelineOptions::retry_with_otsu applies to this frame's fixed one.
   std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
-  // Whether `d`'s id is known to be in the scene (known_ids_).
-  bool known(const Detection& d) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
   // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`);
@@ -190,8 +200,7 @@ class Pipeline {
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
   std::unique_ptr<detail::RingDecoder> ring_decoder_;  // from the first ring-row image
-  // PipelineOptions::known_ids and the map's ids, per family, sorted and each once.
-  std::map<std::string, std::vector<int>> known_ids_;
+  KnownIds known_ids_;  // known_ids_of(options_)
   FrameResult result_;
   cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
 };

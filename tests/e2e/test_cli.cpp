@@ -246,6 +246,10 @@ TEST(Cli, IdsReportOnlyTheMarkersGiven) {
   r = run_cli("detect " + pcd + " --sensor mid40 --ids 1-3,7 --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(slurp(json))["markers"].size(), 0u);
+  EXPECT_NE(r.out.find("0 marker(s) (and 1 of ids not given with --ids, not reported)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(nlohmann::json::parse(slurp(json))["image"].contains("threshold_retry"));
   expect_input_error("detect " + pcd + " --sensor mid40 --ids 3-1", "--ids");
   expect_input_error("detect " + pcd + " --sensor mid40 --ids 0,,2", "--ids");
   expect_input_error("detect " + pcd + " --sensor mid40 --ids zero", "--ids");

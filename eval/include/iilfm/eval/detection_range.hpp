@@ -31,6 +31,9 @@ struct RangeQuery {
   bool ring_candidates = PipelineOptions{}.ring_candidates;  // and ring_candidates
   bool search_regions = AprilTagOptions{}.search_regions;    // both settings
   bool gray_decode = AprilTagOptions{}.decode_gray;          // iilfm settings
+  // Both settings get the scene's marker map, as `iilfm detect --map`: iilfm's then knows the
+  // marker's id (PipelineOptions::known_ids).
+  bool map = true;
   std::vector<double> distances = {1,  1.5, 2,  2.5, 3,  3.5, 4,  5,  6,  7,  8, 9,
                                    10, 12,  14, 16,  18, 20,  23, 26, 30, 35, 40};
 };
