@@ -112,8 +112,7 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
       if (out > -1e9f) found.push_back(out);
     std::size_t kept = 0;
     if (found.size() >= 3) {
-      const auto upper_quartile =
-          found.begin() + static_cast<std::ptrdiff_t>(found.size() * 3 / 4);
+      const auto upper_quartile = found.begin() + static_cast<std::ptrdiff_t>(found.size() * 3 / 4);
       std::nth_element(found.begin(), upper_quartile, found.end());
       const float deepest = *upper_quartile - kEnvelopeDepth;
       for (std::size_t i = 0; i < side.size(); ++i)
@@ -208,7 +207,8 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       hulls.assign(hull_a.begin(), hull_a.end());
       hulls.insert(hulls.end(), hull_b.begin(), hull_b.end());
       cv::convexHull(hulls, hull);
-      if (const auto quad = quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, dark, band.tl()))
+      if (const auto quad =
+              quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, dark, band.tl()))
         quads.push_back(*quad);
     }
   }

@@ -383,8 +383,7 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
                                      ring_intensity(r), decoded, covered);
     for (Detection& d : decoded) detections.push_back(std::move(d));
   }
-  r.unknown_ids_dropped =
-      options_.only_known_ids ? drop_unknown_ids(known_ids_, detections) : 0;
+  r.unknown_ids_dropped = options_.only_known_ids ? drop_unknown_ids(known_ids_, detections) : 0;
   // One report per physical marker; a decoding the marker map knows wins (docs/detectors.md).
   drop_duplicate_detections(detections, [&](const Detection& d) {
     return options_.map && options_.map->find(d.family, d.id) != nullptr;

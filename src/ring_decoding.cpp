@@ -130,8 +130,9 @@ DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimi
   // misread, is then not taken for a known one. Nearer by a bit or two was not enough: rows of
   // the original ArUco dictionary read from 15-20 bits lie a bit or two from several codes, and
   // one of those read as a mapped id (VLP-16 Hi-Res, a grid at 5 m whose map listed 5 of 35).
-  const bool unambiguous = result.errors <= limits.max_errors &&
-                           2 * result.errors + limits.min_distance_margin <= result.distance_to_next;
+  const bool unambiguous =
+      result.errors <= limits.max_errors &&
+      2 * result.errors + limits.min_distance_margin <= result.distance_to_next;
   if (result.accepted || !known || !unambiguous) return result;
   const DecodeResult among_known = decode_cells(*known, reading, limits, hypotheses);
   if (among_known.accepted && among_known.id == result.id &&

@@ -200,7 +200,7 @@ class Pipeline {
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
   std::unique_ptr<detail::RingDecoder> ring_decoder_;  // from the first ring-row image
-  KnownIds known_ids_;  // known_ids_of(options_)
+  KnownIds known_ids_;                                 // known_ids_of(options_)
   FrameResult result_;
   cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
 };

@@ -149,10 +149,9 @@ FamilyLayout charuco_layout(const std::string& board) {
   const cv::Ptr<cv::aruco::Dictionary> dictionary =
       cv::aruco::getPredefinedDictionary(spec.dictionary->id);
   // The unit of size is one chessboard square; the print adds one white cell around the board.
-  return FamilyLayout{spec.square_cells(),
-                      std::max(spec.squares_x, spec.squares_y) * spec.square_cells() + 2,
-                      2 * dictionary->maxCorrectionBits + 1,
-                      dictionary->bytesList.rows / spec.markers()};
+  return FamilyLayout{
+      spec.square_cells(), std::max(spec.squares_x, spec.squares_y) * spec.square_cells() + 2,
+      2 * dictionary->maxCorrectionBits + 1, dictionary->bytesList.rows / spec.markers()};
 }
 
 }  // namespace iilfm::detail

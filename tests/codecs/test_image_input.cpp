@@ -66,9 +66,8 @@ TEST(ImageInput, TagInASquashedIntensityImageIsFoundWithPixelCornersOnly) {
   EXPECT_EQ(j["input"]["kind"], "image");
 
   // --ids holds for an image too: id 7 not among them, nothing reported, and said so.
-  const CliRun other =
-      run_cli("detect " + png.string() + " --res-h 0.35 --res-v 0.7 --ids 0-6,8 --json " +
-              json.string());
+  const CliRun other = run_cli("detect " + png.string() +
+                               " --res-h 0.35 --res-v 0.7 --ids 0-6,8 --json " + json.string());
   ASSERT_EQ(other.status, 0) << other.err;
   EXPECT_EQ(nlohmann::json::parse(slurp(json))["markers"].size(), 0u);
   EXPECT_NE(other.out.find("0 marker(s) (and 1 of ids not given with --ids, not reported)"),

@@ -8,9 +8,9 @@
 
 #include "../../src/cell_code_book.hpp"
 #include "../../src/ring_decoding.hpp"
-#include "iilfm/error.hpp"
 #include "iilfm/apriltag_families.hpp"
 #include "iilfm/detector.hpp"
+#include "iilfm/error.hpp"
 
 namespace iilfm::detail {
 namespace {

@@ -307,8 +307,7 @@ TEST(RingDecoding, IdsGivenAreReadFromFewerRingsAndAloneReported) {
         },
         given);
   }
-  std::printf("VLP-16, 1 m tag36h11 at 5 m: %d of %d found with --ids 0\n", given.found,
-              kSeeds);
+  std::printf("VLP-16, 1 m tag36h11 at 5 m: %d of %d found with --ids 0\n", given.found, kSeeds);
   // Measured over seeds 1-10: 9 (2 with neither ids nor map, TheMapsIdsAreReadFromFewerRings;
   // 4 with --ids 0,1,2: each id known is one more code a random reading may match).
   EXPECT_GE(given.found, kSeeds == 10 ? 8 : 2);
