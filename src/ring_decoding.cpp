@@ -347,9 +347,11 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       shortest_side = std::min(shortest_side, (corners[k] - corners[(k + 1) % 4]).norm());
     std::vector<std::pair<const std::string*, RingRead>> reads;
     for (const auto& [family, books] : books_) {
-      // Each family's cells must be wide enough (dark_quads took the narrowest family's).
+      // Each family's cells must be wide enough (dark_quads took the narrowest family's), to
+      // half a pixel: where a side lies is known to about that (an OS1-64's 40 cm tag at 6 m is
+      // 10 pixels across, 1.25 a cell, in some placings 9.98).
       const int cells = books.all->border_width();
-      if (shortest_side < kMinCandidatePixelsPerCell * cells) continue;
+      if (shortest_side < kMinCandidatePixelsPerCell * cells - 0.5) continue;
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
       if (quiet_zone_fraction(quad_gray, corners, cells) < kMinCandidateMargin) continue;
       RingRead r = read(family, projected, image, intensity, true);
