@@ -152,25 +152,26 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
   const int known = popcount(reading.known);
   best.erasures = book.bits() - known;
   best.errors = std::numeric_limits<int>::max();
+  int nearest = -1;  // code number in the book
   for (int q = 0; q < 4; ++q)
-    for (int id = 0; id < book.codes(); ++id) {
-      const int errors = popcount((book.code(id, q) ^ reading.white) & reading.known);
+    for (int index = 0; index < book.codes(); ++index) {
+      const int errors = popcount((book.code(index, q) ^ reading.white) & reading.known);
       if (errors < best.errors) {
         best.errors = errors;
-        best.id = id;
+        nearest = index;
         best.quarter_turns = q;
       }
     }
-  if (best.id < 0) return best;
-  const std::uint64_t chosen = book.code(best.id, best.quarter_turns);
+  if (nearest < 0) return best;
+  const std::uint64_t chosen = book.code(nearest, best.quarter_turns);
   best.distance_to_next = known;
   for (int q = 0; q < 4; ++q)
-    for (int id = 0; id < book.codes(); ++id) {
-      if (id == best.id && q == best.quarter_turns) continue;
+    for (int index = 0; index < book.codes(); ++index) {
+      if (index == nearest && q == best.quarter_turns) continue;
       best.distance_to_next =
-          std::min(best.distance_to_next, popcount((book.code(id, q) ^ chosen) & reading.known));
+          std::min(best.distance_to_next, popcount((book.code(index, q) ^ chosen) & reading.known));
     }
-  best.id = book.id_at(best.id);
+  best.id = book.id_at(nearest);
   best.security_bits = chance_match_bits(book, known, best.errors, hypotheses);
   best.accepted = best.errors <= limits.max_errors &&
                   2 * best.errors + limits.min_distance_margin <= best.distance_to_next &&

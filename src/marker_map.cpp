@@ -130,7 +130,9 @@ void MarkerMap::add(const MapMarker& input, const std::string& where, const MapT
   MapMarker marker = input;
   const std::string label = where + ": marker " + marker.key();
   try {
-    family_layout(marker.family);  // throws for unknown families
+    const int ids = family_layout(marker.family).ids;  // throws for unknown families
+    if (marker.id < 0 || (ids > 0 && marker.id >= ids))
+      throw InputError("id not in the family (ids 0.." + std::to_string(ids - 1) + ")");
     validate_geometry(marker, tol);
   } catch (const InputError& e) {
     throw InputError(label + ": " + e.what());

@@ -110,6 +110,11 @@ TEST(MarkerMap, RejectsBadMarkersNamingThem) {
 )")
                 .find("tag99h1"),
             std::string::npos);
+  const std::string id = load_error("id", R"(markers:
+  - {family: aruco:DICT_4X4_50, id: 50, size: 0.1, pose: {position: [1,0,0], rpy_deg: [0,0,0]}}
+)");
+  EXPECT_NE(id.find("aruco:DICT_4X4_50/50: id not in the family (ids 0..49)"), std::string::npos)
+      << id;
   EXPECT_NE(load_error("nopose", R"(markers:
   - {family: apriltag:tag36h11, id: 0, size: 0.1}
 )")
