@@ -173,10 +173,13 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
     }
   best.id = book.id_at(nearest);
   best.security_bits = chance_match_bits(book, known, best.errors, hypotheses);
-  best.accepted = best.errors <= limits.max_errors &&
-                  2 * best.errors + limits.min_distance_margin <= best.distance_to_next &&
-                  best.security_bits >= limits.min_security_bits;
+  best.accepted = unambiguous(best, limits) && best.security_bits >= limits.min_security_bits;
   return best;
+}
+
+bool unambiguous(const DecodeResult& decoded, const DecodeLimits& limits) {
+  return decoded.errors <= limits.max_errors &&
+         2 * decoded.errors + limits.min_distance_margin <= decoded.distance_to_next;
 }
 
 double chance_match_bits(double codes, int known, int errors, int hypotheses) {

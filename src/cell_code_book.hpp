@@ -85,6 +85,10 @@ struct DecodeResult {
 DecodeResult decode_cells(const CellCodeBook& book, const BitReading& reading,
                           const DecodeLimits& limits, int hypotheses = 1);
 
+// Whether `decoded` lies within the errors and the distance to the next code that `limits` allow:
+// decode_cells accepts it when it also has the chance-match bits.
+bool unambiguous(const DecodeResult& decoded, const DecodeLimits& limits);
+
 // DecodeResult::security_bits of a reading with `known` bits matching a code but for `errors`:
 // -log2 of the chance that a random reading matches some code (any id and turn) that well, over
 // `hypotheses` readings tried.

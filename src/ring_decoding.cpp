@@ -10,7 +10,6 @@
 
 #include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
-#include "iilfm/error.hpp"
 #include "iilfm/square_pixels.hpp"
 #include "seam_detection.hpp"
 
@@ -130,10 +129,7 @@ DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimi
   // misread, is then not taken for a known one. Nearer by a bit or two was not enough: rows of
   // the original ArUco dictionary read from 15-20 bits lie a bit or two from several codes, and
   // one of those read as a mapped id (VLP-16 Hi-Res, a grid at 5 m whose map listed 5 of 35).
-  const bool unambiguous =
-      result.errors <= limits.max_errors &&
-      2 * result.errors + limits.min_distance_margin <= result.distance_to_next;
-  if (result.accepted || !known || !unambiguous) return result;
+  if (result.accepted || !known || !unambiguous(result, limits)) return result;
   const DecodeResult among_known = decode_cells(*known, reading, limits, hypotheses);
   if (among_known.accepted && among_known.id == result.id &&
       among_known.quarter_turns == result.quarter_turns)
@@ -150,13 +146,8 @@ RingDecoder::RingDecoder(const std::vector<std::string>& families, RingDecodeSet
     if (!book) continue;
     FamilyCodeBooks books;
     const auto known = known_ids.find(family);
-    if (known != known_ids.end() && !known->second.empty()) {
-      try {
-        books.known = std::make_unique<CellCodeBook>(book->restricted_to(known->second));
-      } catch (const InputError& e) {
-        throw InputError(family + ": " + e.what());
-      }
-    }
+    if (known != known_ids.end() && !known->second.empty())
+      books.known = std::make_unique<CellCodeBook>(book->restricted_to(known->second));
     books.all = std::move(book);
     books_.emplace(family, std::move(books));
   }
