@@ -329,5 +329,25 @@ TEST(RingDecoding, IdsGivenAreReadFromFewerRingsAndAloneReported) {
   EXPECT_EQ(other_ids.found + other_ids.wrong, 0);
 }
 
+// A map that lists only some of the markers in view: the others must not be read as listed ids.
+// An ARUCO_ORIGINAL grid 5 m from a VLP-16 Hi-Res, mapped ids 0, 7, ..., 28 of 35: one unlisted
+// marker read from 17 bits matched mapped id 0 with no error, and another code two bits away,
+// until a known id needed three bits to every other code (FamilyCodeBooks::decode).
+TEST(RingDecoding, APartialMapDoesNotTurnUnlistedMarkersIntoListedOnes) {
+  eval::CaseSpec spec = eval::grid_spec("vlp16-hires", "aruco:DICT_ARUCO_ORIGINAL", 5.0);
+  spec.physics.footprint = true;
+  const eval::SimulatedCase c = eval::simulate_case(spec, 2);
+  PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+  ASSERT_TRUE(options.map);
+  MarkerMap listed;
+  for (const MapMarker& m : options.map->markers())
+    if (m.id % 7 == 0) listed.add(m);
+  options.map = listed;
+  options.families = {"aruco:DICT_ARUCO_ORIGINAL", "apriltag:tag36h11"};
+  Pipeline pipeline(options);
+  const eval::CaseScore s = eval::score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
+  EXPECT_EQ(s.wrong_ids + s.false_positives, 0);
+}
+
 }  // namespace
 }  // namespace iilfm
