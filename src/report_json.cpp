@@ -135,6 +135,8 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
   json markers = json::array();
   for (const MarkerResult& m : result.markers) markers.push_back(marker_json(m, result.image));
   out["markers"] = markers;
+  // --ids: markers found with other ids, left out of "markers" (absent when there were none).
+  if (result.unknown_ids_dropped > 0) out["markers_not_reported"] = result.unknown_ids_dropped;
   if (result.pose) {
     const LidarPose& p = *result.pose;
     const Eigen::Quaterniond q(p.T_world_lidar.linear());

@@ -110,6 +110,9 @@ class Result:
     @property
     def pose_missing_reason(self) -> str: ...
     @property
+    def markers_not_reported(self) -> int:
+        """Markers found whose ids were not among the ids= given (left out of markers)."""
+    @property
     def intensity_image(self) -> npt.NDArray[np.float32]: ...
     @property
     def range_image(self) -> npt.NDArray[np.float32]: ...

@@ -395,6 +395,9 @@ void register_pipeline(py::module_& m) {
           "pose_missing_reason", [](const Result& r) { return r.frame->pose_missing_reason; },
           "why pose is None ('' when there is a pose)")
       .def_property_readonly(
+          "markers_not_reported", [](const Result& r) { return r.frame->unknown_ids_dropped; },
+          "markers found whose ids were not among the ids= given, so left out of markers")
+      .def_property_readonly(
           "intensity_image",
           [](py::object self) {
             return mat_view(self.cast<Result&>().frame->image.intensity, self);

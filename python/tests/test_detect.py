@@ -243,5 +243,8 @@ def test_ids_report_only_the_markers_given(scan):
     wanted = [found[0], found[3], 34 if found[-1] != 34 else 33]
     some = iilfm.Pipeline(sensor="mid40", ids=wanted).detect(iilfm.read_cloud(scan["pcd"]))
     assert sorted(m.id for m in some.markers) == sorted(set(wanted) & set(found))
+    assert some.markers_not_reported == len(found) - len(some.markers)
+    assert some.to_json()["markers_not_reported"] == some.markers_not_reported
+    assert everything.markers_not_reported == 0
     with pytest.raises(iilfm.InputError, match="marker id 600 is not in apriltag:tag36h11"):
         iilfm.Pipeline(sensor="mid40", ids=[0, 600])

@@ -242,14 +242,18 @@ TEST(Cli, IdsReportOnlyTheMarkersGiven) {
   ASSERT_EQ(run_cli("sim --scene tag-wall --frames 20 --out " + pcd).status, 0);  // tag36h11 id 0
   CliRun r = run_cli("detect " + pcd + " --sensor mid40 --ids 0,5-7 --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(nlohmann::json::parse(slurp(json))["markers"].size(), 1u);
+  nlohmann::json j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["markers"].size(), 1u);
+  EXPECT_FALSE(j.contains("markers_not_reported"));
   r = run_cli("detect " + pcd + " --sensor mid40 --ids 1-3,7 --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(nlohmann::json::parse(slurp(json))["markers"].size(), 0u);
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["markers"].size(), 0u);
+  EXPECT_EQ(j.value("markers_not_reported", 0), 1);
   EXPECT_NE(r.out.find("0 marker(s) (and 1 of ids not given with --ids, not reported)"),
             std::string::npos)
       << r.out;
-  EXPECT_FALSE(nlohmann::json::parse(slurp(json))["image"].contains("threshold_retry"));
+  EXPECT_FALSE(j["image"].contains("threshold_retry"));
   expect_input_error("detect " + pcd + " --sensor mid40 --ids 3-1", "--ids");
   expect_input_error("detect " + pcd + " --sensor mid40 --ids 0,,2", "--ids");
   expect_input_error("detect " + pcd + " --sensor mid40 --ids zero", "--ids");
