@@ -218,14 +218,26 @@ TEST(CellCodeBook, ARestrictedBookDecodesItsIdsWithFewerChancesOfAMatch) {
   EXPECT_THROW(book->restricted_to({-1}), InputError);
 }
 
-// The ids known to be in a scene (a map's, `--ids`) decode from fewer bits, but only where the
-// family's nearest code is the known one, clearly: a marker of another id is not taken for it.
-TEST(FamilyCodeBooks, AKnownIdIsReadFromFewerBitsUnlessAnotherCodeIsNearer) {
+// tag36h11's books with id 17 known.
+FamilyCodeBooks books_knowing_17() {
   FamilyCodeBooks books;
   books.all = CellCodeBook::for_family("apriltag:tag36h11");
   books.known = std::make_unique<CellCodeBook>(books.all->restricted_to({17}));
+  return books;
+}
+
+// Limits that tolerate up to 5 misread bits.
+DecodeLimits five_errors() {
   DecodeLimits limits;
   limits.max_errors = 5;
+  return limits;
+}
+
+// The ids known to be in a scene (a map's, `--ids`) decode from fewer bits, but only where the
+// family's nearest code is the known one, clearly: a marker of another id is not taken for it.
+TEST(FamilyCodeBooks, AKnownIdIsReadFromFewerBitsUnlessAnotherCodeIsNearer) {
+  const FamilyCodeBooks books = books_knowing_17();
+  const DecodeLimits limits = five_errors();
   // The last 20 bits of id 17 read right: 20 - log2(4 x 587) = 8.8 bits for the family, 18 for
   // one id.
   BitReading r = all_known(books.all->code(17, 1), 36);
@@ -279,11 +291,8 @@ std::optional<BitReading> reading_apart_from_another_code(const CellCodeBook& bo
 // from another code is decoded over the whole family only (one wrong id in the partial-map test of
 // docs/pipeline.md came from such a reading), one three bits away over the known codes.
 TEST(FamilyCodeBooks, AKnownIdIsReadFromFewerBitsOnlyThreeBitsFromEveryOtherCode) {
-  FamilyCodeBooks books;
-  books.all = CellCodeBook::for_family("apriltag:tag36h11");
-  books.known = std::make_unique<CellCodeBook>(books.all->restricted_to({17}));
-  DecodeLimits limits;
-  limits.max_errors = 5;
+  const FamilyCodeBooks books = books_knowing_17();
+  const DecodeLimits limits = five_errors();
   const std::optional<BitReading> two = reading_apart_from_another_code(*books.all, 2);
   const std::optional<BitReading> three = reading_apart_from_another_code(*books.all, 3);
   ASSERT_TRUE(two && three);
