@@ -120,6 +120,28 @@ TEST(RingDecoding, Os1_64ReadsAOneMetreTag36h11AtTwelveMetresFromUnderTwoColumns
   EXPECT_EQ(counts.wrong, 0);
 }
 
+// Where the rings cross one cell row in two, many placings of a candidate read their few fixed
+// cells all right by luck, and none of them may decode, while placings that read more fixed cells,
+// a couple wrong, read the code. Those near-best placings vote too when no tied one decodes
+// (kNearTolerance). An OS1-64's 1 m tag at 14 m: seed 6 had 43 tied placings reading 24-30 fixed
+// cells and other codes, and placings reading 44 of 46 fixed cells read id 0 from 20 bits. The
+// sanitizer builds run seeds 6 and 2.
+TEST(RingDecoding, NearBestPlacingsVoteWhereNoTiedOneDecodes) {
+  constexpr int kSeeds = seeds(10, 2);
+  const int order[10] = {6, 2, 1, 3, 4, 5, 7, 8, 9, 10};
+  Counts counts;
+  for (int k = 0; k < kSeeds; ++k) {
+    const eval::SimulatedCase c =
+        wall_case("os1-64", "apriltag:tag36h11", 0, 1.0, 14.0, order[k], false);
+    score(
+        c, [](PipelineOptions&) {}, counts);
+  }
+  std::printf("OS1-64, 1 m tag36h11 at 14 m: %d of %d found\n", counts.found, kSeeds);
+  // Measured over seeds 1-10: 9 (all but seed 1); 8 with the tied placings alone (not seed 6).
+  EXPECT_GE(counts.found, kSeeds == 10 ? 9 : 2);
+  EXPECT_EQ(counts.wrong, 0);
+}
+
 // A candidate's top and bottom sides come from the binary image, whose rows between rings are
 // invented: they may lie up to half a ring spacing off the square, which on an ULTRA Puck's coarse
 // outer rings is a few centimetres. The reported corners are those of the placing where the fixed
