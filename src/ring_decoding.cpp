@@ -131,7 +131,7 @@ void resolve_tied_placings(const FamilyCodeBooks& books, const MarkerSamples& sa
 DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimits& limits,
                                      int hypotheses) const {
   DecodeResult result = decode_cells(*all, reading, limits, hypotheses);
-  // Only a reading the family's own limits would take but for its chance-match bits, and whose
+  // Only a reading the family's own limits take, or would but for its chance-match bits, and whose
   // nearest code lies a bit further from every other code than they ask (2 t + 3 with the default
   // margin): a marker of an id not known must misread three bits to pass for a known one. Nearer
   // by one bit or two was not enough: codes of the original ArUco dictionary read from 15-20 bits
@@ -139,7 +139,9 @@ DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimi
   // at 5 m whose map listed 5 of its 35 ids; one wrong id among 538 found).
   DecodeLimits known_limits = limits;
   ++known_limits.min_distance_margin;
-  if (result.accepted || !known || !unambiguous(result, known_limits)) return result;
+  // A reading the family's limits accept already is counted among the known codes too when it
+  // is a known id: a candidate asks for more chance-match bits than the limits do.
+  if (!known || !unambiguous(result, known_limits)) return result;
   const DecodeResult among_known = decode_cells(*known, reading, limits, hypotheses);
   if (among_known.accepted && among_known.id == result.id &&
       among_known.quarter_turns == result.quarter_turns)

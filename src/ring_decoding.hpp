@@ -56,10 +56,10 @@ struct FamilyCodeBooks {
   std::unique_ptr<CellCodeBook> all;
   std::unique_ptr<CellCodeBook> known;  // null when no id of the family is known
 
-  // decode_cells over every code. A reading the family's limits take but for its chance-match
-  // bits, with one bit more of distance to every other code than they ask, whose code is a known
-  // one, is decoded over the known codes alone: a random reading has fewer chances to match one
-  // of them.
+  // decode_cells over every code. A reading the family's limits take, or would but for its
+  // chance-match bits, with one bit more of distance to every other code than they ask, whose
+  // code is a known one, is decoded over the known codes alone: a random reading has fewer
+  // chances to match one of them.
   DecodeResult decode(const BitReading& reading, const DecodeLimits& limits,
                       int hypotheses = 1) const;
   // The book a reading's chance-match bits are best counted in: the known codes' when there are.

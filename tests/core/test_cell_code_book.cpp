@@ -268,6 +268,32 @@ TEST(FamilyCodeBooks, AKnownIdIsReadFromFewerBitsUnlessAnotherCodeIsNearer) {
   EXPECT_FALSE(d.accepted && d.id == 17);
 }
 
+// A known id the family's limits accept already is counted among the known codes too: a ring
+// candidate asks for more chance-match bits (12) than the limits (10).
+TEST(FamilyCodeBooks, AKnownIdTheFamilyAcceptsIsCountedAmongTheKnownCodes) {
+  const FamilyCodeBooks books = books_knowing_17();
+  const DecodeLimits limits = five_errors();
+  // 24 bits of id 17 read right: 24 - log2(4 x 587) = 12.8 bits for the family, 22 for one id.
+  BitReading r = all_known(books.all->code(17, 0), 36);
+  r.known = (std::uint64_t{1} << 24) - 1;
+  const DecodeResult for_family = decode_cells(*books.all, r, limits);
+  ASSERT_TRUE(for_family.accepted);
+  ASSERT_GE(for_family.distance_to_next, 3);
+  const DecodeResult d = books.decode(r, limits);
+  EXPECT_TRUE(d.accepted);
+  EXPECT_EQ(d.id, 17);
+  EXPECT_NEAR(d.security_bits, 24 - std::log2(4.0), 1e-9);
+  // An id not known keeps the family's decoding.
+  const BitReading other = [&] {
+    BitReading o = all_known(books.all->code(300, 0), 36);
+    o.known = r.known;
+    return o;
+  }();
+  const DecodeResult d300 = books.decode(other, limits);
+  EXPECT_EQ(d300.id, 300);
+  EXPECT_NEAR(d300.security_bits, decode_cells(*books.all, other, limits).security_bits, 1e-9);
+}
+
 // Id 17 read right on 20 bits, 18-`apart` of them where another code agrees with it and `apart`
 // where it does not: that code lies `apart` bits from the reading, and is the next nearest.
 std::optional<BitReading> reading_apart_from_another_code(const CellCodeBook& book, int apart) {
