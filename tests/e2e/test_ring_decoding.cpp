@@ -347,8 +347,8 @@ TEST(RingDecoding, IdsGivenAreReadFromFewerRingsAndAloneReported) {
   }
   std::printf("VLP-16, 1 m tag36h11 at 5 m: %d of %d found with --ids 0\n", given.found, kSeeds);
   // Measured over seeds 1-10: 9, 10 with session 26's decoding (2 with neither ids nor map,
-  // TheMapsIdsAreReadFromFewerRings;
-  // 4 with --ids 0,1,2: each id known is one more code a random reading may match).
+  // TheMapsIdsAreReadFromFewerRings; 4 with --ids 0,1,2: each id known is one more code a random
+  // reading may match).
   EXPECT_GE(given.found, kSeeds == 10 ? 8 : 2);
   EXPECT_EQ(given.wrong, 0);
 
