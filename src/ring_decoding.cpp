@@ -275,9 +275,10 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   out.shift_bottom = nearest->second;
   out.cells = samples.read(out.shift_top, out.shift_bottom, book, read_options, scratch);
   out.read = true;
-  out.decoded = books.decode(out.cells.bits, limits(family));
+  const DecodeLimits family_limits = limits(family);
+  out.decoded = books.decode(out.cells.bits, family_limits);
   if (candidate) {
-    resolve_tied_placings(books, samples, read_options, best, limits(family),
+    resolve_tied_placings(books, samples, read_options, best, family_limits,
                           settings_.candidate_min_security_bits, out);
     // The near-best placings include the tied ones, so their distinct readings are every reading
     // tried, and the choice pays for all of them.
@@ -286,7 +287,7 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
       for (const auto& [placing, agreement] : read_placings)
         if (agreement > best_agreement - kNearTolerance - 1e-9) near.push_back(placing);
       if (near.size() > best.size())
-        resolve_tied_placings(books, samples, read_options, near, limits(family),
+        resolve_tied_placings(books, samples, read_options, near, family_limits,
                               settings_.candidate_min_security_bits, out);
     }
   }
