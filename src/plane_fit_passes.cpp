@@ -21,11 +21,18 @@ using Lanes = double __attribute__((vector_size(kLanes * sizeof(double)), aligne
 // different registers, and a debug build does not inline the helpers (GCC's -Wpsabi).
 void load(const double* p, Lanes& out) { out = *reinterpret_cast<const Lanes*>(p); }
 
+// Four floats widened to four doubles.
+using FloatLanes =
+    float __attribute__((vector_size(kLanes * sizeof(float)), aligned(4), may_alias));
+void load(const float* p, Lanes& out) {
+  out = __builtin_convertvector(*reinterpret_cast<const FloatLanes*>(p), Lanes);
+}
+
 // Lane sums added in one order: the same total for any vector width.
 double total(const Lanes& lanes) { return ((lanes[0] + lanes[1]) + lanes[2]) + lanes[3]; }
 
-IILFM_AVX2_CLONES void sums_of(const double* __restrict x, const double* __restrict y,
-                               const double* __restrict z, std::size_t n, double rx, double ry,
+IILFM_AVX2_CLONES void sums_of(const float* __restrict x, const float* __restrict y,
+                               const float* __restrict z, std::size_t n, double rx, double ry,
                                double rz, CoordinateSums& out) {
   Lanes sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
   const std::size_t whole = n - n % kLanes;
@@ -71,8 +78,8 @@ IILFM_AVX2_CLONES void sums_of(const double* __restrict x, const double* __restr
   out.zz = total(szz);
 }
 
-IILFM_AVX2_CLONES void residuals_of(const double* __restrict x, const double* __restrict y,
-                                    const double* __restrict z, std::size_t n, double nx, double ny,
+IILFM_AVX2_CLONES void residuals_of(const float* __restrict x, const float* __restrict y,
+                                    const float* __restrict z, std::size_t n, double nx, double ny,
                                     double nz, double d, double* __restrict out) {
   for (std::size_t k = 0; k < n; ++k) out[k] = std::abs(nx * x[k] + ny * y[k] + nz * z[k] - d);
 }
@@ -85,8 +92,8 @@ void take_range(const Lanes& v, Lanes& lo, Lanes& hi) {
 double lowest(const Lanes& v) { return std::min({v[0], v[1], v[2], v[3]}); }
 double highest(const Lanes& v) { return std::max({v[0], v[1], v[2], v[3]}); }
 
-IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __restrict y,
-                                 const double* __restrict z, std::size_t n, const double* plane,
+IILFM_AVX2_CLONES void spread_of(const float* __restrict x, const float* __restrict y,
+                                 const float* __restrict z, std::size_t n, const double* plane,
                                  SpreadSums& out) {
   const double nx = plane[0], ny = plane[1], nz = plane[2], d = plane[3];
   const double cx = plane[4], cy = plane[5], cz = plane[6];
@@ -143,8 +150,8 @@ IILFM_AVX2_CLONES void spread_of(const double* __restrict x, const double* __res
   out.max2 = highest(hi2);
 }
 
-IILFM_AVX2_CLONES void patches_of(const double* __restrict x, const double* __restrict y,
-                                  const double* __restrict z, std::size_t n, const double* frame,
+IILFM_AVX2_CLONES void patches_of(const float* __restrict x, const float* __restrict y,
+                                  const float* __restrict z, std::size_t n, const double* frame,
                                   int grid, std::int32_t* __restrict patch) {
   const double cx = frame[0], cy = frame[1], cz = frame[2];
   const double ax = frame[3], ay = frame[4], az = frame[5];

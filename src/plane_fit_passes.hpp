@@ -40,9 +40,12 @@ struct UninitialisedAllocator : std::allocator<T> {
 template <typename T>
 using Buffer = std::vector<T, UninitialisedAllocator<T>>;
 
-// A fit's points, one array per coordinate.
+// A fit's points, one array per coordinate. Floats: a cloud's points are floats, so a
+// single-point pixel's coordinates are exact and a several-point pixel's (its mean range along the
+// pixel's ray) within 0.3 um at 5 m; every pass reads them as doubles and sums in doubles. Half
+// the bytes of doubles, so a coplanar wall's 10^5 points stay in L2 between passes.
 struct FitPoints {
-  Buffer<double> x, y, z;
+  Buffer<float> x, y, z;
 
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n) {

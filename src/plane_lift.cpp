@@ -262,9 +262,9 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
   // Written through plain pointers (a push_back per point reloaded the thread-local vectors'
   // ends), and through these names alone in the parts: a thread-local named in a helper thread
   // is that thread's own.
-  double* const xs = fit.x.data();
-  double* const ys = fit.y.data();
-  double* const zs = fit.z.data();
+  float* const xs = fit.x.data();
+  float* const ys = fit.y.data();
+  float* const zs = fit.z.data();
   std::uint8_t* const labelled = out.label.data();
   SinglePoint* const singles = single.data();
   const std::vector<int>& rows = box_rows;
@@ -276,9 +276,9 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
   detail::in_parts(parts, [&](int part, int count) {
     const auto [first, end] = detail::part_range(rows.size(), part, count);
     const std::size_t base = first * width + static_cast<std::size_t>(part);
-    double* __restrict x = xs;
-    double* __restrict y = ys;
-    double* __restrict z = zs;
+    float* __restrict x = xs;
+    float* __restrict y = ys;
+    float* __restrict z = zs;
     std::uint8_t* __restrict l = labelled;
     SinglePoint* __restrict one = singles;
     std::size_t n = base, n_single = base;
@@ -300,9 +300,9 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
         const int c = std::max(columns[k], 0);
         const bool taken = (label != 0) & (columns[k] >= 0) & (seen[c] != 0);
         const double along = static_cast<double>(range[c]);
-        x[n] = cos_el * cos_of[k] * along;
-        y[n] = cos_el * sin_of[k] * along;
-        z[n] = sin_el * along;
+        x[n] = static_cast<float>(cos_el * cos_of[k] * along);
+        y[n] = static_cast<float>(cos_el * sin_of[k] * along);
+        z[n] = static_cast<float>(sin_el * along);
         l[n] = label;
         one[n_single] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index[c])};
         n_single += taken & (count_of[c] == 1);
@@ -320,11 +320,10 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
         __builtin_prefetch(cloud.y.data + static_cast<std::ptrdiff_t>(ahead) * cloud.y.stride);
         __builtin_prefetch(cloud.z.data + static_cast<std::ptrdiff_t>(ahead) * cloud.z.stride);
       }
-      const Vec3 p = cloud.point(one[k].point);
-      const std::size_t slot = one[k].slot;
-      x[slot] = p.x();
-      y[slot] = p.y();
-      z[slot] = p.z();
+      const std::size_t point = one[k].point, slot = one[k].slot;
+      x[slot] = cloud.x[point];
+      y[slot] = cloud.y[point];
+      z[slot] = cloud.z[point];
     }
     first_slot[part] = base;
     gathered[part] = n - base;
@@ -333,9 +332,9 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
   for (int part = 0; part < parts; ++part) {
     const std::size_t from = first_slot[part], count = gathered[part];
     if (from != n) {
-      std::memmove(xs + n, xs + from, count * sizeof(double));
-      std::memmove(ys + n, ys + from, count * sizeof(double));
-      std::memmove(zs + n, zs + from, count * sizeof(double));
+      std::memmove(xs + n, xs + from, count * sizeof(float));
+      std::memmove(ys + n, ys + from, count * sizeof(float));
+      std::memmove(zs + n, zs + from, count * sizeof(float));
       std::memmove(labelled + n, labelled + from, count);
     }
     n += count;

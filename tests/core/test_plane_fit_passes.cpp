@@ -137,9 +137,10 @@ TEST(PlaneFitPasses, SpreadSumsGiveTheInPlaneExtent) {
   const SpreadSums s = spread_sums(p, normal, 3.0, centre, axis1, axis2);
   double lo = 1e9, hi = -1e9, sum_sq = 0;
   for (std::size_t k = 0; k < p.size(); ++k) {
-    lo = std::min(lo, p.z[k]);
-    hi = std::max(hi, p.y[k]);
-    sum_sq += (p.x[k] - 3) * (p.x[k] - 3);
+    lo = std::min<double>(lo, p.z[k]);
+    hi = std::max<double>(hi, p.y[k]);
+    const double off = static_cast<double>(p.x[k]) - 3;
+    sum_sq += off * off;
   }
   EXPECT_EQ(s.min2, lo);
   EXPECT_EQ(s.max1, hi);
