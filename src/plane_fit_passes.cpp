@@ -13,7 +13,8 @@ constexpr std::size_t kLanes = 4;
 
 // Four doubles as one value (GCC's vector extension: one AVX2 register, two SSE2 ones), lane j
 // fed from every fourth point. Written with lane arrays, GCC left most of these sums scalar.
-// Unaligned and allowed to alias doubles, so the coordinate arrays are read through it.
+// Unaligned and allowed to alias doubles, so the residuals are read through it (the points,
+// floats, through FloatLanes).
 using Lanes = double __attribute__((vector_size(kLanes * sizeof(double)), aligned(8), may_alias));
 
 // The helpers take and give Lanes through references: a Lanes value passed between functions
