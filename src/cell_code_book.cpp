@@ -152,17 +152,22 @@ IILFM_POPCNT_CLONES DecodeResult decode_cells(const CellCodeBook& book, const Bi
   const int known = popcount(reading.known);
   best.erasures = book.bits() - known;
   best.errors = std::numeric_limits<int>::max();
-  int nearest = -1;  // code number in the book
+  int second = std::numeric_limits<int>::max();  // the next nearest code's errors
+  int nearest = -1;                              // code number in the book
   for (int q = 0; q < 4; ++q)
     for (int index = 0; index < book.codes(); ++index) {
       const int errors = popcount((book.code(index, q) ^ reading.white) & reading.known);
       if (errors < best.errors) {
+        second = best.errors;
         best.errors = errors;
         nearest = index;
         best.quarter_turns = q;
+      } else {
+        second = std::min(second, errors);
       }
     }
   if (nearest < 0) return best;
+  best.reading_to_next = std::min(second, known);
   const std::uint64_t chosen = book.code(nearest, best.quarter_turns);
   best.distance_to_next = known;
   for (int q = 0; q < 4; ++q)

@@ -76,6 +76,9 @@ struct DecodeResult {
   int errors = 0, erasures = 0;
   // Fewest known bits in which another code (any rotation) differs from the best one.
   int distance_to_next = 0;
+  // Fewest known bits in which another code (any rotation) differs from the reading: at least
+  // distance_to_next - errors.
+  int reading_to_next = 0;
   double security_bits = 0;
 };
 

@@ -131,17 +131,21 @@ void resolve_tied_placings(const FamilyCodeBooks& books, const MarkerSamples& sa
 DecodeResult FamilyCodeBooks::decode(const BitReading& reading, const DecodeLimits& limits,
                                      int hypotheses) const {
   DecodeResult result = decode_cells(*all, reading, limits, hypotheses);
-  // Only a reading the family's own limits take, or would but for its chance-match bits, and whose
-  // nearest code lies a bit further from every other code than they ask (2 t + 3 with the default
-  // margin): a marker of an id not known must misread three bits to pass for a known one. Nearer
-  // by one bit or two was not enough: codes of the original ArUco dictionary read from 15-20 bits
-  // lie two bits from several others, and one marker read as a mapped id (VLP-16 Hi-Res, a grid
-  // at 5 m whose map listed 5 of its 35 ids; one wrong id among 538 found).
-  DecodeLimits known_limits = limits;
-  ++known_limits.min_distance_margin;
+  // Only a reading the family's own limits take, or would but for its chance-match bits, that
+  // lies three bits (one more than the default margin) further from every other code than from
+  // its nearest: a marker of an id not known must misread three bits more than this reading has
+  // errors to pass for a known one. Nearer by one bit or two was not enough: codes of the original
+  // ArUco dictionary read from 15-20 bits lie two bits from several others, and one marker read
+  // as a mapped id (VLP-16 Hi-Res, a grid at 5 m whose map listed 5 of its 35 ids; one wrong id
+  // among 538 found). The reading's own distance to the other codes, not the worst one its errors
+  // allow (2 t + 3 to the nearest code): that refused right readings with an error that lay as
+  // clear of every other code (an OS1-64's 40 cm tag at 5 m, one error in 22 bits).
+  const bool clear_of_others =
+      result.errors <= limits.max_errors &&
+      result.errors + limits.min_distance_margin + 1 <= result.reading_to_next;
   // A reading the family's limits accept already is counted among the known codes too when it
   // is a known id: a candidate asks for more chance-match bits than the limits do.
-  if (!known || !unambiguous(result, known_limits)) return result;
+  if (!known || !clear_of_others) return result;
   const DecodeResult among_known = decode_cells(*known, reading, limits, hypotheses);
   if (among_known.accepted && among_known.id == result.id &&
       among_known.quarter_turns == result.quarter_turns)
@@ -281,8 +285,12 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
     resolve_tied_placings(books, samples, read_options, best, family_limits,
                           settings_.candidate_min_security_bits, out);
     // The near-best placings include the tied ones, so their distinct readings are every reading
-    // tried, and the choice pays for all of them.
-    if (!out.decoded.accepted) {
+    // tried, and the choice pays for all of them. They vote also where the tied ones decode, but
+    // with fewer chance-match bits than a candidate needs once their choice is paid for (an ULTRA
+    // Puck 5 m from a grid of tag25h9: one square so, whose near-best placings read its id
+    // securely).
+    if (!out.decoded.accepted ||
+        out.decoded.security_bits < settings_.candidate_min_security_bits) {
       std::vector<std::pair<double, double>> near;
       for (const auto& [placing, agreement] : read_placings)
         if (agreement > best_agreement - kNearTolerance - 1e-9) near.push_back(placing);

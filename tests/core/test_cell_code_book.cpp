@@ -294,21 +294,28 @@ TEST(FamilyCodeBooks, AKnownIdTheFamilyAcceptsIsCountedAmongTheKnownCodes) {
   EXPECT_NEAR(d300.security_bits, decode_cells(*books.all, other, limits).security_bits, 1e-9);
 }
 
-// Id 17 read right on 20 bits, 18-`apart` of them where another code agrees with it and `apart`
-// where it does not: that code lies `apart` bits from the reading, and is the next nearest.
-std::optional<BitReading> reading_apart_from_another_code(const CellCodeBook& book, int apart) {
+// Id 17 read on 20 bits, 20-`apart` of them where another code agrees with it and `apart` where it
+// does not, then `errors` of the agreeing ones misread: the reading lies `errors` bits from id 17
+// and `apart` + `errors` from that code, the next nearest.
+std::optional<BitReading> reading_apart_from_another_code(const CellCodeBook& book, int apart,
+                                                          int errors = 0) {
   const std::uint64_t code17 = book.code(17, 0);
   DecodeLimits limits;
+  limits.max_errors = 5;
   for (int other = 0; other < book.codes(); ++other) {
     if (other == 17) continue;
     BitReading r{code17, 0};
     int agreeing = 0, differing = 0;
     for (int k = 0; k < 36; ++k) {
       const bool same = ((code17 ^ book.code(other, 0)) >> k & 1u) == 0;
-      if (same ? agreeing++ < 20 - apart : differing++ < apart) r.known |= std::uint64_t{1} << k;
+      const std::uint64_t bit = std::uint64_t{1} << k;
+      if (same ? agreeing++ < 20 - apart : differing++ < apart) r.known |= bit;
+      if (same && agreeing <= errors) r.white ^= bit;  // misread
     }
     const DecodeResult d = decode_cells(book, r, limits);
-    if (popcount(r.known) == 20 && d.id == 17 && d.distance_to_next == apart) return r;
+    if (popcount(r.known) == 20 && d.id == 17 && d.errors == errors &&
+        d.reading_to_next == apart + errors)
+      return r;
   }
   return std::nullopt;
 }
@@ -330,6 +337,29 @@ TEST(FamilyCodeBooks, AKnownIdIsReadFromFewerBitsOnlyThreeBitsFromEveryOtherCode
   const DecodeResult d = books.decode(*three, limits);
   EXPECT_TRUE(d.accepted);
   EXPECT_EQ(d.id, 17);
+}
+
+// With errors, the same three bits more: a reading one bit from the known id and four from every
+// other code is read among the known codes (an OS1-64's 40 cm tag at 5 m, one error in 22 bits),
+// one only three bits from another code is not. The code four bits from the reading lies three
+// from the known one here, and asking the worst case of one error for (2 t + 3 to the nearest
+// code, five) refused both.
+TEST(FamilyCodeBooks, AKnownIdReadWithErrorsNeedsThreeBitsMoreToEveryOtherCode) {
+  const FamilyCodeBooks books = books_knowing_17();
+  const DecodeLimits limits = five_errors();
+  const std::optional<BitReading> clear = reading_apart_from_another_code(*books.all, 3, 1);
+  const std::optional<BitReading> near = reading_apart_from_another_code(*books.all, 2, 1);
+  ASSERT_TRUE(clear && near);
+  for (const BitReading& r : {*clear, *near}) {
+    ASSERT_FALSE(decode_cells(*books.all, r, limits).accepted);
+    ASSERT_TRUE(decode_cells(*books.known, r, limits).accepted);  // 20 - 2 - log2 21 = 13.6 bits
+  }
+  const DecodeResult d = books.decode(*clear, limits);
+  EXPECT_TRUE(d.accepted);
+  EXPECT_EQ(d.id, 17);
+  EXPECT_EQ(d.errors, 1);
+  EXPECT_NEAR(d.security_bits, 20 - std::log2(4.0) - std::log2(21.0), 1e-9);
+  EXPECT_FALSE(books.decode(*near, limits).accepted);
 }
 
 }  // namespace
