@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include "iilfm/eval/case.hpp"
 #include "iilfm/eval/detection_range.hpp"
@@ -32,6 +33,18 @@ eval::SimulatedCase wall_case(const std::string& sensor, const std::string& fami
   }
   spec.frames = 1;
   return eval::simulate_case(spec, static_cast<std::uint64_t>(seed));
+}
+
+// A grid scene's scan (eval::grid_spec, footprint on) and the pipeline's options for it, with the
+// scene's map.
+std::pair<eval::SimulatedCase, PipelineOptions> grid_case(const std::string& sensor,
+                                                          const std::string& family,
+                                                          double distance, int seed) {
+  eval::CaseSpec spec = eval::grid_spec(sensor, family, distance);
+  spec.physics.footprint = true;
+  eval::SimulatedCase c = eval::simulate_case(spec, static_cast<std::uint64_t>(seed));
+  PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+  return {std::move(c), std::move(options)};
 }
 
 // Release builds run `release` seeds; unoptimised (sanitizer) builds, which simulate the beam
@@ -162,13 +175,11 @@ TEST(RingDecoding, AMappedIdTheFamilyAcceptsNeedsItsCandidateBitsOnlyAmongTheMap
 
 // The near-best placings vote also where the tied ones decode, but too weakly for a candidate
 // once the choice among them is paid for. An ULTRA Puck 5 m from a grid of 35 tag25h9 (seed 2,
-// the map's ids known): the tied placings of id 20's square read it with errors, 10 bits, and
-// near-best ones with none; 4 of the grid's markers were found before, 5 now.
+// the map's ids known): the tied placings of id 20's square decoded it with fewer than 12
+// chance-match bits, near-best ones more securely; 4 of the grid's markers were found before, 5
+// now.
 TEST(RingDecoding, NearBestPlacingsVoteWhereTheTiedOnesDecodeTooWeakly) {
-  eval::CaseSpec spec = eval::grid_spec("ultrapuck", "apriltag:tag25h9", 5.0);
-  spec.physics.footprint = true;
-  const eval::SimulatedCase c = eval::simulate_case(spec, 2);
-  PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+  auto [c, options] = grid_case("ultrapuck", "apriltag:tag25h9", 5.0, 2);
   ASSERT_TRUE(options.map);
   options.families = {"apriltag:tag25h9", "apriltag:tag36h11"};
   Pipeline pipeline(options);
@@ -399,10 +410,7 @@ TEST(RingDecoding, IdsGivenAreReadFromFewerRingsAndAloneReported) {
 // marker read from 17 bits matched mapped id 0 with no error, and another code two bits away,
 // until a known id needed three bits to every other code (FamilyCodeBooks::decode).
 TEST(RingDecoding, APartialMapDoesNotTurnUnlistedMarkersIntoListedOnes) {
-  eval::CaseSpec spec = eval::grid_spec("vlp16-hires", "aruco:DICT_ARUCO_ORIGINAL", 5.0);
-  spec.physics.footprint = true;
-  const eval::SimulatedCase c = eval::simulate_case(spec, 2);
-  PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+  auto [c, options] = grid_case("vlp16-hires", "aruco:DICT_ARUCO_ORIGINAL", 5.0, 2);
   ASSERT_TRUE(options.map);
   MarkerMap listed;
   for (const MapMarker& m : options.map->markers())
