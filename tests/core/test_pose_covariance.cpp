@@ -180,6 +180,56 @@ TEST(FitRigidWeighted, ZeroWeightIgnoresAPoint) {
   EXPECT_FALSE(fit_rigid(model, corners, {1, 1, 1, 1, -1}).ok);
 }
 
+// rigid_fit_covariance updates the centre fit's sums for each perturbed target point; the same
+// Jacobian refitted from scratch (fit_rigid on the moved points) must give the same covariance,
+// weighted and not, for the pose and for its inverse.
+TEST(PoseCovariance, WeightedFitMatchesAJacobianRefittedFromScratch) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  const Square s = make_square();
+  std::vector<Vec3> source, target;
+  std::vector<double> weights;
+  for (int k = 0; k < 12; ++k) {
+    source.push_back(Vec3(uniform(rng), uniform(rng), 0.1 * uniform(rng)));
+    target.push_back(s.T * source.back() + 0.002 * Vec3(uniform(rng), uniform(rng), uniform(rng)));
+    weights.push_back(1.5 + uniform(rng));
+  }
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(36, 36);
+  for (Eigen::Index i = 0; i < 36; ++i)
+    for (Eigen::Index j = 0; j <= i; ++j) L(i, j) = 0.001 * uniform(rng);
+  const Eigen::MatrixXd target_cov = L * L.transpose();
+  for (const bool weighted : {false, true}) {
+    for (const bool inverse : {false, true}) {
+      const std::vector<double> w = weighted ? weights : std::vector<double>{};
+      const auto pose_of = [&](const std::vector<Vec3>& t) {
+        const RigidFit fit = fit_rigid(source, t, w);
+        return inverse ? fit.T.inverse() : fit.T;
+      };
+      const Isometry3 centre = pose_of(target);
+      const auto difference = [&](const Isometry3& T) {
+        Eigen::Matrix<double, 6, 1> x;
+        const Eigen::AngleAxisd turn(centre.linear().transpose() * T.linear());
+        x.head<3>() = turn.angle() * turn.axis();
+        x.tail<3>() = T.translation() - centre.translation();
+        return x;
+      };
+      Eigen::MatrixXd J(6, 36);
+      constexpr double kStep = 1e-5;
+      for (int col = 0; col < 36; ++col) {
+        std::vector<Vec3> plus = target, minus = target;
+        plus[col / 3](col % 3) += kStep;
+        minus[col / 3](col % 3) -= kStep;
+        J.col(col) = (difference(pose_of(plus)) - difference(pose_of(minus))) / (2 * kStep);
+      }
+      const Mat6 expected = J * target_cov * J.transpose();
+      const Mat6 C = rigid_fit_covariance(source, target, w, target_cov, inverse);
+      EXPECT_LT((C - expected).norm(), 1e-6 * expected.norm())
+          << "weighted " << weighted << ", inverse " << inverse;
+      EXPECT_GT(C.norm(), 0);
+    }
+  }
+}
+
 // One marker 4 m ahead with its corners as given.
 MarkerCorrespondence marker(const std::vector<Vec3>& lidar) {
   MarkerCorrespondence m;
