@@ -8,6 +8,7 @@
 #include <tuple>
 #include <utility>
 
+#include "candidate_sides.hpp"
 #include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -381,6 +382,20 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
       if (quiet_zone_fraction(quad_gray, corners, cells) < kMinCandidateMargin) continue;
       RingRead r = read(family, projected, image, intensity, true);
+      if (r.read && r.cells.levels_ok &&
+          r.decoded.security_bits < settings_.candidate_min_security_bits) {
+        // Read too weakly where the binary image put the sides: read again with the left and
+        // right sides where the rings cross the marker's mid level. A second reading is a second
+        // chance to match: it pays one bit.
+        if (const auto measured =
+                measured_side_columns(projected, image, intensity, r.cells.black, r.cells.white)) {
+          RingRead second = read(family, *measured, image, intensity, true);
+          second.decoded.security_bits -= 1;
+          if (second.read && second.decoded.accepted &&
+              second.decoded.security_bits > r.decoded.security_bits)
+            r = std::move(second);
+        }
+      }
       if (r.read) reads.emplace_back(&family, std::move(r));
     }
     // Every family whose fixed cells fit the square is one more try at a chance match: a

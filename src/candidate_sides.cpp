@@ -1,0 +1,96 @@
+#include "candidate_sides.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace iilfm::detail {
+
+namespace {
+
+// The median of `v` (not empty), the mean of the middle two for an even count.
+double median_of(std::vector<double>& v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+}
+
+}  // namespace
+
+std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 4>& corners,
+                                                         const ProjectedImage& image,
+                                                         const cv::Mat& intensity, double black,
+                                                         double white, double max_shift_px) {
+  if (!(white > black)) return std::nullopt;
+  const ImageGeometry& g = image.geometry;
+  const double mid = 0.5 * (black + white);
+  Vec2 centre = Vec2::Zero();
+  for (const Vec2& p : corners) centre += 0.25 * p;
+  // The level of pixel (c, r), nothing where unobserved or outside.
+  const auto level = [&](int c, int r) -> std::optional<double> {
+    c = g.wrap_column(c);
+    if (!g.contains_pixel(c, r) || !image.observed(c, r)) return std::nullopt;
+    return static_cast<double>(intensity.at<float>(r, c));
+  };
+  std::array<Vec2, 4> out = corners;
+  int sides = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Vec2 a = corners[static_cast<std::size_t>(k)];
+    const Vec2 b = corners[static_cast<std::size_t>((k + 1) % 4)];
+    const Vec2 d = b - a;
+    if (!(std::abs(d.y()) > std::abs(d.x()))) continue;  // a top or bottom side
+    ++sides;
+    const double outwards = 0.5 * (a.x() + b.x()) > centre.x() ? 1 : -1;
+    // The rows whose centres lie on the side, half a pixel in from its ends.
+    const int first_row = static_cast<int>(std::ceil(std::min(a.y(), b.y()) + 0.5));
+    const int last_row = static_cast<int>(std::floor(std::max(a.y(), b.y()) - 0.5));
+    std::vector<double> shifts;
+    for (int r = first_row; r <= last_row; ++r) {
+      const double side_x = a.x() + d.x() * (r - a.y()) / d.y();
+      // The row's pixels from a pixel and a half inside the side to as far outside: from the
+      // darkest outwards, the first to reach the level midway between it and the brightest
+      // beyond it. The levels are the row's own: the marker's white, read from its cells, is
+      // lowered by the mixed pixels along the cell edges.
+      const int start = static_cast<int>(std::lround(side_x - outwards * (max_shift_px + 0.5)));
+      const int count = static_cast<int>(std::ceil(2 * max_shift_px + 2));
+      std::vector<std::optional<double>> row(static_cast<std::size_t>(count));
+      int darkest = -1;
+      for (int j = 0; j < count; ++j) {
+        row[static_cast<std::size_t>(j)] = level(start + static_cast<int>(outwards) * j, r);
+        const auto& v = row[static_cast<std::size_t>(j)];
+        if (v && (darkest < 0 || *v < *row[static_cast<std::size_t>(darkest)])) darkest = j;
+      }
+      if (darkest < 0) continue;
+      const double dark = *row[static_cast<std::size_t>(darkest)];
+      double bright = dark;
+      for (int j = darkest + 1; j < count; ++j)
+        if (const auto& v = row[static_cast<std::size_t>(j)]) bright = std::max(bright, *v);
+      // The step must span half the marker's contrast: a row through white data cells or wall
+      // alone says nothing of the edge.
+      if (bright - dark < 0.5 * (white - black) || dark > mid) continue;
+      const double row_mid = 0.5 * (dark + bright);
+      double previous = dark;
+      int previous_at = darkest;
+      for (int j = darkest + 1; j < count; ++j) {
+        const auto& v = row[static_cast<std::size_t>(j)];
+        if (!v) continue;
+        if (*v >= row_mid) {
+          const double at =
+              previous_at + (j - previous_at) * (row_mid - previous) / (*v - previous);
+          shifts.push_back(start + outwards * at - side_x);
+          break;
+        }
+        previous = *v;
+        previous_at = j;
+      }
+    }
+    if (shifts.size() < 2) return std::nullopt;
+    const double shift = std::clamp(median_of(shifts), -max_shift_px, max_shift_px);
+    out[static_cast<std::size_t>(k)].x() += shift;
+    out[static_cast<std::size_t>((k + 1) % 4)].x() += shift;
+  }
+  if (sides != 2) return std::nullopt;
+  return out;
+}
+
+}  // namespace iilfm::detail

@@ -1,0 +1,28 @@
+// The left and right sides of a ring candidate (ring_decoding.hpp), measured on the rings that
+// cross them. A dark quad's sides come from the binary image, so they lie on pixel edges: up to
+// most of a pixel from the printed edge, a third of a cell where a marker spans 1.4 columns a cell
+// (an OS1-64's 40 cm tag at 6 m). The pixel the edge crosses holds a mix of black and white, and
+// its level says where the edge lies within it.
+#pragma once
+
+#include <array>
+#include <opencv2/core.hpp>
+#include <optional>
+
+#include "iilfm/projection.hpp"
+#include "iilfm/types.hpp"
+
+namespace iilfm::detail {
+
+// `corners` (projected image, a quadrilateral) with each near-vertical side moved along the rows to
+// where the rows it spans cross the level midway between `black` and `white` (the marker's own
+// levels) going outwards from the black border: the median over those rows, each crossing
+// interpolated linearly between the two pixel centres around it, and at most `max_shift_px` from
+// where the side was. Needs two rows per side; nullopt when a side has fewer or the levels are not
+// apart.
+std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 4>& corners,
+                                                         const ProjectedImage& image,
+                                                         const cv::Mat& intensity, double black,
+                                                         double white, double max_shift_px = 1);
+
+}  // namespace iilfm::detail

@@ -1,0 +1,87 @@
+// A ring candidate's left and right sides moved to where the rows cross the edge: the binary
+// image's sides lie on pixel edges, and the mixed pixel across a printed edge says where it lies.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "../../src/candidate_sides.hpp"
+
+namespace iilfm {
+namespace {
+
+constexpr double kBlack = 10, kWhite = 120, kWall = 60;
+
+// A row of pixels one pixel wide each (box footprint): a black square from `left` to `right`
+// (columns, pixel centres at integers) on rows 3-8, a one-pixel white quiet zone on each side and
+// wall beyond. Rows 2 and 9 hold the quiet zone's white across.
+ProjectedImage marker_rows(double left, double right, int width = 40, int height = 12) {
+  ProjectedImage image;
+  image.geometry.width = width;
+  image.geometry.height = height;
+  image.geometry.res_h = image.geometry.res_v = 0.001;
+  image.intensity = cv::Mat(height, width, CV_32F, cv::Scalar(kWall));
+  image.mask = cv::Mat(height, width, CV_8U, cv::Scalar(255));
+  const auto share = [](double c, double lo, double hi) {
+    return std::max(0.0, std::min(hi, c + 0.5) - std::max(lo, c - 0.5));
+  };
+  for (int r = 2; r <= 9; ++r) {
+    for (int c = 0; c < width; ++c) {
+      const double paper = share(c, left - 1.2, right + 1.2);
+      const double black = r >= 3 && r <= 8 ? share(c, left, right) : 0;
+      image.intensity.at<float>(r, c) =
+          static_cast<float>(kWall * (1 - paper) + kWhite * (paper - black) + kBlack * black);
+    }
+  }
+  return image;
+}
+
+TEST(CandidateSides, LeftAndRightSidesMoveToTheMixedPixelsEdge) {
+  // The binary image cut the square at pixel edges: 12.5 to 22.5, where the print spans 12.5 to
+  // 23.1 (pixel 23 is 60 % black, so white in the binary image).
+  const ProjectedImage image = marker_rows(12.5, 23.1);
+  const std::array<Vec2, 4> quad = {Vec2(22.5, 2.5), Vec2(22.5, 8.5), Vec2(12.5, 8.5),
+                                    Vec2(12.5, 2.5)};
+  const auto measured = detail::measured_side_columns(quad, image, image.intensity, kBlack, kWhite);
+  ASSERT_TRUE(measured);
+  EXPECT_NEAR((*measured)[0].x(), 23.1, 0.02);
+  EXPECT_NEAR((*measured)[1].x(), 23.1, 0.02);
+  EXPECT_NEAR((*measured)[2].x(), 12.5, 0.02);
+  EXPECT_NEAR((*measured)[3].x(), 12.5, 0.02);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ((*measured)[k].y(), quad[k].y());  // rows stay
+}
+
+TEST(CandidateSides, ASideMovesAtMostTheGivenShiftAndNotWithoutAnEdgeInReach) {
+  const ProjectedImage image = marker_rows(12.5, 23.1);
+  // The right side at 22.0: the rows cross at 23.17 (the box footprint's linear ramp between
+  // pixel centres 23 and 24), 1.17 pixels out, so it moves the one pixel allowed.
+  const std::array<Vec2, 4> near = {Vec2(22.0, 2.5), Vec2(22.0, 8.5), Vec2(12.5, 8.5),
+                                    Vec2(12.5, 2.5)};
+  const auto measured =
+      detail::measured_side_columns(near, image, image.intensity, kBlack, kWhite, 1.0);
+  ASSERT_TRUE(measured);
+  EXPECT_NEAR((*measured)[0].x(), 23.0, 1e-9);
+  // The right side two and a half pixels inside the print: the pixels searched (a pixel and a
+  // half either side) are all black, so no row says where the edge is.
+  const std::array<Vec2, 4> inside = {Vec2(20.5, 2.5), Vec2(20.5, 8.5), Vec2(12.5, 8.5),
+                                      Vec2(12.5, 2.5)};
+  EXPECT_FALSE(detail::measured_side_columns(inside, image, image.intensity, kBlack, kWhite, 1.0));
+}
+
+TEST(CandidateSides, NothingWithoutContrastOrWithoutRows) {
+  const ProjectedImage image = marker_rows(12.5, 23.1);
+  const std::array<Vec2, 4> quad = {Vec2(22.5, 2.5), Vec2(22.5, 8.5), Vec2(12.5, 8.5),
+                                    Vec2(12.5, 2.5)};
+  // Levels that are not apart.
+  EXPECT_FALSE(detail::measured_side_columns(quad, image, image.intensity, kWhite, kBlack));
+  // A quad one row tall: under two rows per side.
+  const std::array<Vec2, 4> flat = {Vec2(22.5, 4.5), Vec2(22.5, 5.5), Vec2(12.5, 5.5),
+                                    Vec2(12.5, 4.5)};
+  EXPECT_FALSE(detail::measured_side_columns(flat, image, image.intensity, kBlack, kWhite));
+  // A uniform image: no row steps across the mid level.
+  ProjectedImage blank = image;
+  blank.intensity.setTo(cv::Scalar(kWhite));
+  EXPECT_FALSE(detail::measured_side_columns(quad, blank, blank.intensity, kBlack, kWhite));
+}
+
+}  // namespace
+}  // namespace iilfm
