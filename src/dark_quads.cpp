@@ -25,6 +25,10 @@ const std::vector<cv::Point>& hull_of(DarkBlob& blob) {
   return blob.hull;
 }
 
+// How far a small square's hull may stray from its quadrilateral (pixels): a corner cut by two
+// pixels on either side.
+constexpr double kMostCornerCutPx = 2.0;
+
 // Of a pair's box, the least share its dark pixels may cover.
 constexpr double kMinDarkShareOfBox = 0.2;
 
@@ -63,7 +67,13 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
     const std::vector<cv::Point>& hull, double enclosed, const cv::Mat& dark, cv::Point origin) {
   // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
   std::vector<cv::Point> poly;
-  cv::approxPolyDP(hull, poly, 0.04 * cv::arcLength(hull, true), true);
+  const double tolerance = 0.04 * cv::arcLength(hull, true);
+  cv::approxPolyDP(hull, poly, tolerance, true);
+  // A square ten pixels across (a 1 m tag at 16 m on an OS1-64) has its corners cut by a pixel or
+  // two where a ring grazed them, more than that share of its outline: its hull is tried again
+  // with that cut allowed.
+  if (poly.size() != 4 && tolerance < kMostCornerCutPx)
+    cv::approxPolyDP(hull, poly, kMostCornerCutPx, true);
   if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
   const double hull_area = cv::contourArea(hull);
   if (hull_area < 0.9 * cv::contourArea(poly)) return std::nullopt;

@@ -83,6 +83,28 @@ TEST(DarkQuads, ASquareWithACornerCutOffIsFoundWhole) {
             1.0);
 }
 
+TEST(DarkQuads, ATenPixelSquareWithCornersCutByTwoPixelsIsFound) {
+  // An OS1-64's 1 m tag36h11 at 16 m in the square-pixel image: 10 columns by 10 rows (5 rings),
+  // cut in two by a column of white data cells, the bottom ring grazing the lower corners, which
+  // the binary image cuts by two pixels on the left and one on the right. The pair's hull is a
+  // hexagon, off its quadrilateral by 1.4 pixels, more than 4 % of its outline.
+  cv::Mat image(60, 200, CV_8U, cv::Scalar(255));
+  image(cv::Rect(100, 20, 10, 10)).setTo(0);
+  image(cv::Rect(104, 20, 1, 10)).setTo(255);
+  for (const cv::Point& p : {cv::Point(100, 28), cv::Point(100, 29), cv::Point(101, 29),
+                             cv::Point(101, 28), cv::Point(109, 29)})
+    image.at<std::uint8_t>(p) = 255;
+  const std::array<Vec2, 4> expected = {Vec2(100, 20), Vec2(109, 20), Vec2(109, 29), Vec2(100, 29)};
+  EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(image, 9.5, kCells), expected), 1.0);
+  // A square of 40 pixels with the same cut keeps the 4 % tolerance, and is found too.
+  cv::Mat large(120, 300, CV_8U, cv::Scalar(255));
+  large(cv::Rect(100, 20, 40, 40)).setTo(0);
+  large(cv::Rect(100, 58, 2, 2)).setTo(255);
+  EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(large, 20, kCells),
+                                     {Vec2(100, 20), Vec2(139, 20), Vec2(139, 59), Vec2(100, 59)}),
+            1.0);
+}
+
 TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
   // White data cells along the inside of the top border row that no ring crossed: the top side is
   // a castle wall, whose tops are the side.
