@@ -187,6 +187,20 @@ TEST(RingDecoding, CandidateSidesMeasuredOnTheRingsReadANarrowSquare) {
   EXPECT_EQ(counts.wrong, 0);
 }
 
+// An OS1-64's 1 m tag at 16 m (seed 3): 10 columns and 5 rings, its black square cut in two by
+// white data cells and its lower corners cut by the last ring, so the two parts' hull is a
+// hexagon a pixel and a half off its quad, and 9.3 detector pixels tall where 9.5 are asked of
+// the width. Both allowed for (a hull within 2 pixels of its quad, a height a ring spacing
+// short), it reads id 0.
+TEST(RingDecoding, ATenPixelSquareWithCutCornersAndARowShortIsRead) {
+  Counts counts;
+  score(
+      wall_case("os1-64", "apriltag:tag36h11", 0, 1.0, 16.0, 3, false), [](PipelineOptions&) {},
+      counts);
+  EXPECT_EQ(counts.found, 1);
+  EXPECT_EQ(counts.wrong, 0);
+}
+
 // The near-best placings vote also where the tied ones decode, but too weakly for a candidate
 // once the choice among them is paid for. An ULTRA Puck 5 m from a grid of 35 tag25h9 (seed 2,
 // the map's ids known): the tied placings of id 20's square decoded it with fewer than 12
