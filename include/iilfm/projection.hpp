@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "iilfm/huge_page_allocator.hpp"
 #include "iilfm/types.hpp"
 
 namespace iilfm {
@@ -167,7 +168,9 @@ class SphericalProjector {
   // Each point's accumulator (row * accumulator_row_stride + column), -1 when not in the image.
   std::vector<std::int32_t> pixel_;
   std::vector<std::uint16_t> ring_copy_;  // a strided ring field, made contiguous for pass 2
-  std::vector<PixelAccumulator> pixels_;
+  // Read in scattered order (a rosette revisits a spot every few frames): huge pages spare the
+  // TLB misses.
+  std::vector<PixelAccumulator, detail::HugePageAllocator<PixelAccumulator>> pixels_;
   bool pixels_clear_ = true;  // every accumulator is zero (pass 4 leaves them so)
 };
 
