@@ -15,11 +15,13 @@
 namespace iilfm::detail {
 
 // `corners` (projected image, a quadrilateral) with each near-vertical side moved along the rows to
-// where the rows it spans cross the level midway between `black` and `white` (the marker's own
-// levels) going outwards from the black border: the median over those rows, each crossing
-// interpolated linearly between the two pixel centres around it, and at most `max_shift_px` from
-// where the side was. Needs two rows per side; nullopt when a side has fewer or the levels are not
-// apart.
+// where the rows it spans step up across their own mid level going outwards from the black border
+// (midway between a row's darkest pixel within a pixel and a half of the side and its brightest
+// beyond that): the median over those rows, each crossing interpolated linearly between the two
+// pixel centres around it, and at most `max_shift_px` from where the side was. `black` and `white`
+// are the marker's levels: a row counts when its step spans half their difference and its darkest
+// pixel lies below their middle. Needs two such rows per side; nullopt when a side has fewer or
+// the levels are not apart.
 std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 4>& corners,
                                                          const ProjectedImage& image,
                                                          const cv::Mat& intensity, double black,

@@ -54,10 +54,8 @@ bool rigid_transform_of(const RigidFitSums& sums, Isometry3& T) {
 RigidFit fit_rigid(const std::vector<Vec3>& source, const std::vector<Vec3>& target,
                    const std::vector<double>& weights) {
   RigidFit fit;
-  if (!detail::rigid_transform_of(detail::rigid_fit_sums(source, target, weights), fit.T)) {
-    fit.T = Isometry3::Identity();
-    return fit;
-  }
+  if (!detail::rigid_transform_of(detail::rigid_fit_sums(source, target, weights), fit.T))
+    return fit;  // T stays the identity
   double sum_sq = 0;
   for (std::size_t i = 0; i < source.size(); ++i)
     sum_sq += (fit.T * source[i] - target[i]).squaredNorm();

@@ -1,7 +1,8 @@
 // An allocator for the few large buffers read in scattered order (the projection's pixel
-// accumulators): above 2 MB their memory is asked to be backed by transparent huge pages, so that
-// a scattered access does not also miss the TLB (a Mid-40 image's accumulators span 2300 pages of
-// 4 KB). The kernel may refuse; the memory is then ordinary.
+// accumulators, the sliding window's per-pixel sums): above 2 MB their memory is asked to be backed
+// by transparent huge pages, so that a scattered access does not also miss the TLB (a Mid-40
+// image's accumulators span 2300 pages of 4 KB). The kernel may refuse; the memory is then
+// ordinary.
 #pragma once
 
 #include <cstddef>
