@@ -89,6 +89,17 @@ Counts tag36h11_found(const std::string& sensor, double size, double distance,
   return counts;
 }
 
+// tag36h11_found over the first seeds(10, 2) seeds of `order`: at least `of_ten` found when all
+// ten run, both when the sanitizer builds run two, and no wrong id or false positive.
+void expect_tag36h11_found(const std::string& sensor, double size, double distance,
+                           const std::array<int, 10>& order, int of_ten) {
+  constexpr int kSeeds = seeds(10, 2);
+  const Counts counts = tag36h11_found(sensor, size, distance, order);
+  EXPECT_GE(counts.found, kSeeds == 10 ? of_ten : 2)
+      << sensor << ", " << size << " m at " << distance << " m";
+  EXPECT_EQ(counts.wrong, 0) << sensor << ", " << size << " m at " << distance << " m";
+}
+
 TEST(RingDecoding, Vlp16ReadsAOneMetreTag36h11BeyondThreeMetres) {
   constexpr int kSeeds = seeds(10, 2);
   Counts with, without;
@@ -136,12 +147,9 @@ TEST(RingDecoding, Vlp16ReadsAFortyCentimetreTag36h11AtOnePointFiveMetresAtEvery
 // candidates take squares down to 1.5 detector-image pixels a cell (2 before: 3 of 30 seeds found,
 // 21 of 30 now). The sanitizer builds run seeds 3 and 4, two of those found.
 TEST(RingDecoding, Os1_64ReadsAOneMetreTag36h11AtTwelveMetresFromUnderTwoColumnsACell) {
-  constexpr int kSeeds = seeds(10, 2);
-  const Counts counts = tag36h11_found("os1-64", 1.0, 12.0, {3, 4, 1, 2, 5, 6, 7, 8, 9, 10});
   // Measured over seeds 1-10: 5 (3, 4, 5, 7 and 8), 10 with session 26's decoding; none with 2
   // pixels a cell.
-  EXPECT_GE(counts.found, kSeeds == 10 ? 4 : 2);
-  EXPECT_EQ(counts.wrong, 0);
+  expect_tag36h11_found("os1-64", 1.0, 12.0, {3, 4, 1, 2, 5, 6, 7, 8, 9, 10}, 4);
 }
 
 // Where the rings cross one cell row in two, many placings of a candidate read their few fixed
@@ -151,11 +159,8 @@ TEST(RingDecoding, Os1_64ReadsAOneMetreTag36h11AtTwelveMetresFromUnderTwoColumns
 // cells and other codes, and placings reading 44 of 46 fixed cells read id 0 from 20 bits. The
 // sanitizer builds run seeds 6 and 2.
 TEST(RingDecoding, NearBestPlacingsVoteWhereNoTiedOneDecodes) {
-  constexpr int kSeeds = seeds(10, 2);
-  const Counts counts = tag36h11_found("os1-64", 1.0, 14.0, {6, 2, 1, 3, 4, 5, 7, 8, 9, 10});
   // Measured over seeds 1-10: 9 (all but seed 1); 8 with the tied placings alone (not seed 6).
-  EXPECT_GE(counts.found, kSeeds == 10 ? 9 : 2);
-  EXPECT_EQ(counts.wrong, 0);
+  expect_tag36h11_found("os1-64", 1.0, 14.0, {6, 2, 1, 3, 4, 5, 7, 8, 9, 10}, 9);
 }
 
 // A mapped id whose reading the family's limits accept (10 chance-match bits) but a candidate
@@ -165,13 +170,10 @@ TEST(RingDecoding, NearBestPlacingsVoteWhereNoTiedOneDecodes) {
 // three bits further from every other code (seed 9: one error in 22 bits, the reading four bits
 // from the next code, which lies three from id 0). The sanitizer builds run seeds 9 and 2.
 TEST(RingDecoding, AMappedIdTheFamilyAcceptsNeedsItsCandidateBitsOnlyAmongTheMapsCodes) {
-  constexpr int kSeeds = seeds(10, 2);
-  const Counts counts = tag36h11_found("os1-64", 0.4, 5.0, {9, 2, 1, 3, 4, 5, 6, 7, 8, 10});
   // Measured over seeds 1-10: 10 since the candidates' sides are measured on the rings (9 before,
   // not 4); 8 asking for 2 t + 3 bits to the next code (not 9), 7 counting the family's
   // chance-match bits (not 2 either).
-  EXPECT_GE(counts.found, kSeeds == 10 ? 9 : 2);
-  EXPECT_EQ(counts.wrong, 0);
+  expect_tag36h11_found("os1-64", 0.4, 5.0, {9, 2, 1, 3, 4, 5, 6, 7, 8, 10}, 9);
 }
 
 // A candidate's left and right sides come from the binary image, on pixel edges: an OS1-64's 40
@@ -180,11 +182,8 @@ TEST(RingDecoding, AMappedIdTheFamilyAcceptsNeedsItsCandidateBitsOnlyAmongTheMap
 // Read again with the sides where the rings cross the mid level (523.2 on the right), it reads id
 // 0 without an error. The sanitizer builds run seeds 1 and 2.
 TEST(RingDecoding, CandidateSidesMeasuredOnTheRingsReadANarrowSquare) {
-  constexpr int kSeeds = seeds(10, 2);
-  const Counts counts = tag36h11_found("os1-64", 0.4, 6.0, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10});
   // Measured over seeds 1-10: 9 (not 7); 8 with the binary image's sides alone (not 1 or 7).
-  EXPECT_GE(counts.found, kSeeds == 10 ? 9 : 2);
-  EXPECT_EQ(counts.wrong, 0);
+  expect_tag36h11_found("os1-64", 0.4, 6.0, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 9);
 }
 
 // An OS1-64's 1 m tag at 16 m (seed 3): 10 columns and 5 rings, its black square cut in two by
