@@ -32,6 +32,51 @@ constexpr double kMostCornerCutPx = 2.0;
 // Of a pair's box, the least share its dark pixels may cover.
 constexpr double kMinDarkShareOfBox = 0.2;
 
+// A hull that approxPolyDP leaves with up to this many vertices may still be a square with a
+// speck joined to one side or a corner cut: four of its vertices are tried (squarest_four).
+constexpr std::size_t kMostHullVertices = 7;
+// Of the hull, the least share those four must span, and the most their opposite sides may turn
+// from parallel (sine of the angle: about 20 degrees).
+constexpr double kMinShareOfHull = 0.75;
+constexpr double kMostSideTurn = 0.35;
+
+double area_of(const std::array<cv::Point, 4>& q) {
+  double twice = 0;
+  for (int k = 0; k < 4; ++k) twice += q[k].cross(q[(k + 1) % 4]);
+  return 0.5 * std::abs(twice);
+}
+
+// Sine of the angle between sides a and b, each given by its two ends.
+double turn_between(cv::Point a0, cv::Point a1, cv::Point b0, cv::Point b1) {
+  const cv::Point2d a = a1 - a0, b = b1 - b0;
+  const double lengths = std::hypot(a.x, a.y) * std::hypot(b.x, b.y);
+  return lengths > 0 ? std::abs(a.cross(b)) / lengths : 1.0;
+}
+
+// Of `poly`'s vertices (a hull's, in order), the four spanning the most area whose opposite sides
+// are near parallel and which span most of `hull_area`. A dark speck of the wall joined to a
+// border row (OS1-128, 1 m tag at 23 m: a ring that grazed the top edge, and the wall above it)
+// adds a vertex that is not a corner; the square's own corners are the four that keep it square.
+std::optional<std::vector<cv::Point>> squarest_four(const std::vector<cv::Point>& poly,
+                                                    double hull_area) {
+  const std::size_t n = poly.size();
+  std::optional<std::vector<cv::Point>> best;
+  double best_area = kMinShareOfHull * hull_area;
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a + 1; b < n; ++b)
+      for (std::size_t c = b + 1; c < n; ++c)
+        for (std::size_t d = c + 1; d < n; ++d) {
+          const std::array<cv::Point, 4> q = {poly[a], poly[b], poly[c], poly[d]};
+          const double area = area_of(q);
+          if (area <= best_area || turn_between(q[0], q[1], q[3], q[2]) > kMostSideTurn ||
+              turn_between(q[1], q[2], q[0], q[3]) > kMostSideTurn)
+            continue;
+          best_area = area;
+          best = std::vector<cv::Point>(q.begin(), q.end());
+        }
+  return best;
+}
+
 // Whether an outline of `points` points in a box `box` is long and large enough for a square of
 // sides of at least `min_side_px`, and small enough to be a marker in `image`: the cheap tests,
 // made before the hull.
@@ -74,14 +119,22 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
   // with that cut allowed.
   if (poly.size() != 4 && tolerance < kMostCornerCutPx)
     cv::approxPolyDP(hull, poly, kMostCornerCutPx, true);
-  if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
   const double hull_area = cv::contourArea(hull);
+  // Where four of the vertices were taken, the speck or cut left out is not counted below.
+  bool four_taken = false;
+  if (poly.size() > 4 && poly.size() <= kMostHullVertices) {
+    if (auto four = squarest_four(poly, hull_area)) {
+      poly = std::move(*four);
+      four_taken = true;
+    }
+  }
+  if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
   if (hull_area < 0.9 * cv::contourArea(poly)) return std::nullopt;
   // Half the hull must be dark. A closed outline encloses its white data cells too; one open to
   // a side (a border row no ring crossed, and a white data cell next to it: an OS1-64's 40 cm tag
   // at 5-6 m) encloses little more than its own pixels, so those are counted.
   if (enclosed < 0.5 * hull_area) {
-    const auto [dark_inside, inside] = dark_pixels_in_hull(dark, origin, hull);
+    const auto [dark_inside, inside] = dark_pixels_in_hull(dark, origin, four_taken ? poly : hull);
     if (dark_inside < 0.5 * inside) return std::nullopt;
   }
   // Per side, the outermost outline point at each step along it, between its vertices (ends

@@ -105,6 +105,27 @@ TEST(DarkQuads, ATenPixelSquareWithCornersCutByTwoPixelsIsFound) {
             1.0);
 }
 
+TEST(DarkQuads, ASpeckJoinedToASideIsLeftOut) {
+  // An OS1-128's 1 m tag36h11 at 23 m in the square-pixel image (seed 9): a 13 x 12-pixel square
+  // with a dark speck of the wall standing four pixels above its top side, joined to it by a ring
+  // that grazed the edge, and a bump of the bottom ring's mixed pixels below it. The hull is a
+  // hexagon whose spike approxPolyDP keeps; four of its vertices are the square (not found
+  // before: a hull had to reduce to four vertices).
+  cv::Mat image(60, 200, CV_8U, cv::Scalar(255));
+  image(cv::Rect(100, 24, 13, 12)).setTo(0);
+  image(cv::Rect(103, 27, 3, 3)).setTo(255);  // white data cells
+  image(cv::Rect(107, 30, 3, 3)).setTo(255);
+  image(cv::Rect(107, 20, 1, 4)).setTo(0);  // the speck, one pixel wide
+  image(cv::Rect(104, 36, 2, 1)).setTo(0);  // the bottom ring's bump
+  const std::array<Vec2, 4> expected = {Vec2(100, 24), Vec2(112, 24), Vec2(112, 35), Vec2(100, 35)};
+  EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(image, 10, kCells), expected), 1.0);
+  // Four vertices that turn too far from a parallelogram are no square: a wedge is not one.
+  cv::Mat wedge(60, 200, CV_8U, cv::Scalar(255));
+  std::vector<cv::Point> outline = {{100, 40}, {104, 20}, {112, 18}, {130, 30}, {118, 40}};
+  cv::fillConvexPoly(wedge, outline, 0);
+  EXPECT_TRUE(detail::dark_quads(wedge, 10, kCells).empty());
+}
+
 TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
   // White data cells along the inside of the top border row that no ring crossed: the top side is
   // a castle wall, whose tops are the side.
