@@ -16,8 +16,12 @@ namespace {
 struct DarkBlob {
   const std::vector<cv::Point>* contour;
   cv::Rect box;
-  double area;
+  double area;                  // enclosed by the outline through the pixel centres
   std::vector<cv::Point> hull;  // empty until a pair needs it
+
+  // Its pixels, by Pick's theorem from the outline through their centres: the area counts none
+  // of a one-pixel-wide part (a far square's border column between two rings' gaps).
+  double pixels() const { return area + 0.5 * static_cast<double>(contour->size()) + 1; }
 };
 
 const std::vector<cv::Point>& hull_of(DarkBlob& blob) {
@@ -77,13 +81,18 @@ std::optional<std::vector<cv::Point>> squarest_four(const std::vector<cv::Point>
   return best;
 }
 
+// The least box a square may have: as wide as its sides, and as tall or a little less.
+struct LeastBox {
+  double width, height;
+};
+
 // Whether an outline of `points` points in a box `box` is long and large enough for a square of
-// sides of at least `min_side_px`, and small enough to be a marker in `image`: the cheap tests,
-// made before the hull.
-bool may_hold_square(std::size_t points, const cv::Rect& box, double min_side_px,
+// at least `least`, and small enough to be a marker in `image`: the cheap tests, made before the
+// hull.
+bool may_hold_square(std::size_t points, const cv::Rect& box, const LeastBox& least,
                      const cv::Size& image) {
-  return static_cast<double>(points) >= 4 * min_side_px && box.width >= min_side_px &&
-         box.height >= min_side_px && box.width <= image.width / 4 &&
+  return static_cast<double>(points) >= 2 * (least.width + least.height) &&
+         box.width >= least.width && box.height >= least.height && box.width <= image.width / 4 &&
          box.height <= image.height * 3 / 4;
 }
 
@@ -214,7 +223,9 @@ int overlap_of(int a0, int a1, int b0, int b1) { return std::min(a1, b1) - std::
 
 }  // namespace
 
-std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells) {
+std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells,
+                                            std::optional<double> min_height_px) {
+  const LeastBox least{min_side_px, min_height_px.value_or(min_side_px)};
   // Traced on the rows where `binary` changes (banded_contours.hpp), thresholded there only:
   // uniform rows are uniform in `dark` too. The blobs spanning the width that this leaves out
   // would fail the box test anyway.
@@ -234,7 +245,7 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
         box.height > image.height * 3 / 4)
       continue;
     DarkBlob blob{&contour, box, cv::contourArea(contour), {}};
-    if (may_hold_square(contour.size(), box, min_side_px, image)) {
+    if (may_hold_square(contour.size(), box, least, image)) {
       if (const auto quad = quad_of_outline({&contour}, hull_of(blob), blob.area, dark, band.tl()))
         quads.push_back(*quad);
     }
@@ -261,8 +272,8 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       if (-overlap_x > widest || -overlap_y > widest) continue;
       // The dark area must fill half the hull, and a quad's hull a good part of its box (half for
       // a square turned 45 degrees): a cheap test before the hull.
-      if (!may_hold_square(a.contour->size() + b.contour->size(), both, min_side_px, image) ||
-          a.area + b.area < kMinDarkShareOfBox * both.area())
+      if (!may_hold_square(a.contour->size() + b.contour->size(), both, least, image) ||
+          a.pixels() + b.pixels() < kMinDarkShareOfBox * both.area())
         continue;
       // The hull of the two parts' hulls is the hull of their outlines.
       const std::vector<cv::Point>& hull_a = hull_of(a);

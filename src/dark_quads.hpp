@@ -4,6 +4,7 @@
 
 #include <array>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "iilfm/types.hpp"
@@ -11,14 +12,17 @@
 namespace iilfm::detail {
 
 // Outlines of dark blobs (0 = black in `binary`) whose convex hulls are nearly quadrilaterals with
-// sides of at least `min_side_px`. Each side is a line fitted to the outline's outer envelope along
-// it (white data cells next to a border row no ring crossed notch the outline); corners are the
-// lines' intersections, clockwise on the screen (y down), any corner first.
+// sides of at least `min_side_px`, and boxes at least `min_height_px` tall (`min_side_px` when not
+// given: a far square's top or bottom border row that no ring crossed is missing from `binary`).
+// Each side is a line fitted to the outline's outer envelope along it (white data cells next to a
+// border row no ring crossed notch the outline); corners are the lines' intersections, clockwise on
+// the screen (y down), any corner first.
 //
 // Where the rings are sparse, white data cells can also cut the black square in two (a white path
 // from a missing border row through the data to a gap in the other border) or cut a corner piece
 // off it: two dark blobs no farther apart than half a cell (of a square `cells` cells across their
 // joint box) are also tried as one; `cells` 0 tries none.
-std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells);
+std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_side_px, int cells,
+                                            std::optional<double> min_height_px = std::nullopt);
 
 }  // namespace iilfm::detail

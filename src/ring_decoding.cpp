@@ -452,8 +452,11 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       seen |= out[i].family == best.family && out[i].id == best.id;
     if (!seen) out.push_back(std::move(best));
   };
+  // As tall as read_quad lets a square be: a ring spacing short of its width.
+  const double min_height_px = min_side_px - ring_spacing_px;
   std::vector<Vec2> corners, detect_corners;
-  for (const std::array<Vec2, 4>& quad : dark_quads(detect_gray, min_side_px, min_cells)) {
+  for (const std::array<Vec2, 4>& quad :
+       dark_quads(detect_gray, min_side_px, min_cells, min_height_px)) {
     corners.assign(quad.begin(), quad.end());
     push_edges_outward(corners);  // the sides run through the outermost pixel centres
     read_quad(corners, detect_gray, corners);
@@ -466,7 +469,7 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   thread_local cv::Mat strip;
   cut->cut(detect_gray, strip);
   std::vector<Vec2*> keypoints;
-  for (const std::array<Vec2, 4>& quad : dark_quads(strip, min_side_px, min_cells)) {
+  for (const std::array<Vec2, 4>& quad : dark_quads(strip, min_side_px, min_cells, min_height_px)) {
     corners.assign(quad.begin(), quad.end());
     push_edges_outward(corners);
     detect_corners = corners;

@@ -126,6 +126,35 @@ TEST(DarkQuads, ASpeckJoinedToASideIsLeftOut) {
   EXPECT_TRUE(detail::dark_quads(wedge, 10, kCells).empty());
 }
 
+TEST(DarkQuads, ASquareARingShortIsFoundWhenItsHeightMayBe) {
+  // An OS1-64's 1 m tag36h11 at 16 m in the square-pixel image (seeds 9 and 10): 10 pixels wide
+  // and 8 tall, its bottom border row between two rings of 2 pixels each lost. Ring decoding asks
+  // for 10 pixels of width and lets the height fall a ring spacing short.
+  cv::Mat image(60, 200, CV_8U, cv::Scalar(255));
+  image(cv::Rect(100, 20, 10, 8)).setTo(0);
+  image(cv::Rect(102, 22, 2, 2)).setTo(255);  // white data cells
+  image(cv::Rect(106, 24, 2, 4)).setTo(255);
+  EXPECT_TRUE(detail::dark_quads(image, 10, kCells).empty());
+  const std::array<Vec2, 4> expected = {Vec2(100, 20), Vec2(109, 20), Vec2(109, 27), Vec2(100, 27)};
+  EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(image, 10, kCells, 8.0), expected), 1.0);
+  EXPECT_TRUE(detail::dark_quads(image, 10, kCells, 8.5).empty());
+}
+
+TEST(DarkQuads, APairOfOnePixelWidePartsCountsItsPixels) {
+  // A square's two halves, each a column with one-pixel rows off it and white rows between (rings
+  // one pixel apart): their outlines enclose almost no area, but their pixels cover more than half
+  // the square, and the pair is tried.
+  cv::Mat image(60, 200, CV_8U, cv::Scalar(255));
+  image(cv::Rect(100, 20, 1, 13)).setTo(0);
+  image(cv::Rect(111, 20, 1, 13)).setTo(0);
+  for (int y = 20; y <= 32; y += 2) {
+    image(cv::Rect(100, y, 5, 1)).setTo(0);
+    image(cv::Rect(106, y, 6, 1)).setTo(0);
+  }
+  const std::array<Vec2, 4> expected = {Vec2(100, 20), Vec2(111, 20), Vec2(111, 32), Vec2(100, 32)};
+  EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(image, 10, kCells), expected), 1.0);
+}
+
 TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
   // White data cells along the inside of the top border row that no ring crossed: the top side is
   // a castle wall, whose tops are the side.
