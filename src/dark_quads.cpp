@@ -43,6 +43,8 @@ constexpr std::size_t kMostHullVertices = 7;
 // from parallel (sine of the angle: about 20 degrees).
 constexpr double kMinShareOfHull = 0.75;
 constexpr double kMostSideTurn = 0.35;
+// The most a fitted side may turn from its opposite one (sine: about 8 degrees).
+constexpr float kMostFittedTurn = 0.14f;
 
 double area_of(const std::array<cv::Point, 4>& q) {
   double twice = 0;
@@ -113,12 +115,40 @@ std::pair<int, int> dark_pixels_in_hull(const cv::Mat& dark, cv::Point origin,
   return {cv::countNonZero(both), cv::countNonZero(inside)};
 }
 
-// The quadrilateral of a dark outline that may_hold_square: the points of `outlines` (one blob's
-// contour, or two blobs'), whose convex hull is `hull` and whose contours enclose `enclosed`
-// pixels, in `dark` (the dark pixels of the band from `origin`).
-std::optional<std::array<Vec2, 4>> quad_of_outline(
-    std::initializer_list<const std::vector<cv::Point>*> outlines,
-    const std::vector<cv::Point>& hull, double enclosed, const cv::Mat& dark, cv::Point origin) {
+// The corners where the sides `lines` (direction, point; in order around the square) meet,
+// clockwise on the screen (y down), the corner order of square markers; none when two neighbours
+// are parallel.
+std::optional<std::array<Vec2, 4>> corners_of(const std::array<cv::Vec4f, 4>& lines) {
+  std::array<Vec2, 4> quad;
+  for (int k = 0; k < 4; ++k) {
+    // Corner k + 1 is where side k meets side k + 1.
+    const cv::Vec4f& l1 = lines[k];
+    const cv::Vec4f& l2 = lines[(k + 1) % 4];
+    const double det = l1[0] * -l2[1] - l1[1] * -l2[0];
+    if (std::abs(det) < 1e-6) return std::nullopt;
+    const double dx = l2[2] - l1[2], dy = l2[3] - l1[3];
+    const double t = (dx * -l2[1] - dy * -l2[0]) / det;
+    quad[(k + 1) % 4] = Vec2(l1[2] + t * l1[0], l1[3] + t * l1[1]);
+  }
+  const double turn = (quad[1] - quad[0]).x() * (quad[2] - quad[1]).y() -
+                      (quad[1] - quad[0]).y() * (quad[2] - quad[1]).x();
+  if (turn < 0) std::swap(quad[1], quad[3]);
+  return quad;
+}
+
+// Signed distance of `p` from the line `l` (direction, point).
+float offset_from(const cv::Vec4f& l, const cv::Point2f& p) {
+  return (p.x - l[2]) * l[1] - (p.y - l[3]) * l[0];
+}
+
+// Appends to `quads` the quadrilateral of a dark outline that may_hold_square: the points of
+// `outlines` (one blob's contour, or two blobs'), whose convex hull is `hull` and whose contours
+// enclose `enclosed` pixels, in `dark` (the dark pixels of the band from `origin`). Where two
+// opposite fitted sides turn from parallel, the quad with the worse fitted one laid parallel to
+// its opposite follows it.
+void quad_of_outline(std::initializer_list<const std::vector<cv::Point>*> outlines,
+                     const std::vector<cv::Point>& hull, double enclosed, const cv::Mat& dark,
+                     cv::Point origin, std::vector<std::array<Vec2, 4>>& quads) {
   // The hull: data cells next to a border row no ring crossed notch the blob, not its hull.
   std::vector<cv::Point> poly;
   const double tolerance = 0.04 * cv::arcLength(hull, true);
@@ -137,14 +167,14 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
       four_taken = true;
     }
   }
-  if (poly.size() != 4 || !cv::isContourConvex(poly)) return std::nullopt;
-  if (hull_area < 0.9 * cv::contourArea(poly)) return std::nullopt;
+  if (poly.size() != 4 || !cv::isContourConvex(poly)) return;
+  if (hull_area < 0.9 * cv::contourArea(poly)) return;
   // Half the hull must be dark. A closed outline encloses its white data cells too; one open to
   // a side (a border row no ring crossed, and a white data cell next to it: an OS1-64's 40 cm tag
   // at 5-6 m) encloses little more than its own pixels, so those are counted.
   if (enclosed < 0.5 * hull_area) {
     const auto [dark_inside, inside] = dark_pixels_in_hull(dark, origin, four_taken ? poly : hull);
-    if (dark_inside < 0.5 * inside) return std::nullopt;
+    if (dark_inside < 0.5 * inside) return;
   }
   // Per side, the outermost outline point at each step along it, between its vertices (ends
   // trimmed: staircase corners), and of those the ones within a pixel and a half of the side's
@@ -154,6 +184,8 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
   cv::Point2f centre(0, 0);
   for (const cv::Point& p : poly) centre += cv::Point2f(p) * 0.25f;
   std::array<cv::Vec4f, 4> lines;
+  std::array<std::vector<cv::Point2f>, 4> kept_points;
+  std::array<float, 4> spread = {0, 0, 0, 0};
   std::vector<cv::Point2f> side;
   std::vector<float> outermost, found;
   for (int k = 0; k < 4; ++k) {
@@ -193,6 +225,13 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
     side.resize(kept);
     if (side.size() >= 3) {
       cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
+      double squares = 0;
+      for (const cv::Point2f& p : side) {
+        const float off = offset_from(lines[k], p);
+        squares += off * off;
+      }
+      spread[k] = static_cast<float>(std::sqrt(squares / static_cast<double>(side.size())));
+      kept_points[k] = side;
     } else {
       // Too few outline points along the side to fit (a border row no ring crossed, with white
       // data cells under it): the hull's edge. Ring decoding searches where the top and bottom
@@ -200,22 +239,33 @@ std::optional<std::array<Vec2, 4>> quad_of_outline(
       lines[k] = cv::Vec4f(dir.x / len, dir.y / len, a.x, a.y);
     }
   }
-  std::array<Vec2, 4> quad;
-  for (int k = 0; k < 4; ++k) {
-    // Corner k + 1 is where side k meets side k + 1.
-    const cv::Vec4f& l1 = lines[k];
-    const cv::Vec4f& l2 = lines[(k + 1) % 4];
-    const double det = l1[0] * -l2[1] - l1[1] * -l2[0];
-    if (std::abs(det) < 1e-6) return std::nullopt;
-    const double dx = l2[2] - l1[2], dy = l2[3] - l1[3];
-    const double t = (dx * -l2[1] - dy * -l2[0]) / det;
-    quad[(k + 1) % 4] = Vec2(l1[2] + t * l1[0], l1[3] + t * l1[1]);
+  const std::optional<std::array<Vec2, 4>> fitted = corners_of(lines);
+  if (!fitted) return;
+  quads.push_back(*fitted);
+  // Opposite sides of a square are near parallel unless it is seen close and obliquely. A ring
+  // grazing a border row reads part of it black, part white, and the side fitted there can turn
+  // by more (an OS1-128's 1 m tag at 20 m: 18 degrees). Such a square is also tried with the
+  // worse fitted of the two (the larger spread of its points) laid parallel to its opposite,
+  // through the median of its points: a second quad, as a blob's nested outlines give, read
+  // apart and kept once per id.
+  std::array<cv::Vec4f, 4> parallel = lines;
+  bool relaid = false;
+  for (int k = 0; k < 2; ++k) {
+    const int worse = spread[k] >= spread[k + 2] ? k : k + 2;
+    const cv::Vec4f& other = lines[worse == k ? k + 2 : k];
+    const float turn = std::abs(lines[worse][0] * other[1] - lines[worse][1] * other[0]);
+    if (turn <= kMostFittedTurn || kept_points[worse].empty()) continue;
+    std::vector<float>& offsets = found;  // reused
+    offsets.clear();
+    for (const cv::Point2f& p : kept_points[worse]) offsets.push_back(offset_from(other, p));
+    const auto middle = offsets.begin() + static_cast<std::ptrdiff_t>(offsets.size() / 2);
+    std::nth_element(offsets.begin(), middle, offsets.end());
+    parallel[worse] =
+        cv::Vec4f(other[0], other[1], other[2] + *middle * other[1], other[3] - *middle * other[0]);
+    relaid = true;
   }
-  // Clockwise on the screen (y down), the corner order of square markers.
-  const double turn = (quad[1] - quad[0]).x() * (quad[2] - quad[1]).y() -
-                      (quad[1] - quad[0]).y() * (quad[2] - quad[1]).x();
-  if (turn < 0) std::swap(quad[1], quad[3]);
-  return quad;
+  if (!relaid) return;
+  if (const std::optional<std::array<Vec2, 4>> quad = corners_of(parallel)) quads.push_back(*quad);
 }
 
 // Pixels shared by the ranges [a0, a1) and [b0, b1); negative: minus the gap between them.
@@ -246,8 +296,7 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       continue;
     DarkBlob blob{&contour, box, cv::contourArea(contour), {}};
     if (may_hold_square(contour.size(), box, least, image)) {
-      if (const auto quad = quad_of_outline({&contour}, hull_of(blob), blob.area, dark, band.tl()))
-        quads.push_back(*quad);
+      quad_of_outline({&contour}, hull_of(blob), blob.area, dark, band.tl(), quads);
     }
     parts.push_back(std::move(blob));
   }
@@ -281,9 +330,7 @@ std::vector<std::array<Vec2, 4>> dark_quads(const cv::Mat& binary, double min_si
       hulls.assign(hull_a.begin(), hull_a.end());
       hulls.insert(hulls.end(), hull_b.begin(), hull_b.end());
       cv::convexHull(hulls, hull);
-      if (const auto quad =
-              quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, dark, band.tl()))
-        quads.push_back(*quad);
+      quad_of_outline({a.contour, b.contour}, hull, a.area + b.area, dark, band.tl(), quads);
     }
   }
   return quads;

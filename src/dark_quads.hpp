@@ -16,7 +16,9 @@ namespace iilfm::detail {
 // given: a far square's top or bottom border row that no ring crossed is missing from `binary`).
 // Each side is a line fitted to the outline's outer envelope along it (white data cells next to a
 // border row no ring crossed notch the outline); corners are the lines' intersections, clockwise on
-// the screen (y down), any corner first.
+// the screen (y down), any corner first. Where two opposite fitted sides turn from parallel by
+// more than 8 degrees, the square follows a second time, the worse fitted of the two laid
+// parallel to its opposite.
 //
 // Where the rings are sparse, white data cells can also cut the black square in two (a white path
 // from a missing border row through the data to a gap in the other border) or cut a corner piece

@@ -155,6 +155,23 @@ TEST(DarkQuads, APairOfOnePixelWidePartsCountsItsPixels) {
   EXPECT_LT(distance_to_nearest_quad(detail::dark_quads(image, 10, kCells), expected), 1.0);
 }
 
+TEST(DarkQuads, ASideFittedAcrossAGrazedRowIsAlsoLaidParallelToItsOpposite) {
+  // A 16-pixel square whose bottom border row a ring grazed: its left part reads white, so the
+  // hull's bottom edge slopes and the side fitted along it turns 13 degrees from the top one (an
+  // OS1-128's 1 m tag at 20 m, seed 1). The square is also given with that side laid parallel to
+  // the top through its points' median.
+  cv::Mat image(60, 200, CV_8U, cv::Scalar(255));
+  image(cv::Rect(100, 20, 16, 16)).setTo(0);
+  image(cv::Rect(104, 24, 4, 4)).setTo(255);  // white data cells
+  image(cv::Rect(108, 28, 4, 4)).setTo(255);
+  image(cv::Rect(100, 34, 6, 2)).setTo(255);  // the grazed part of the bottom row
+  const auto quads = detail::dark_quads(image, 10, kCells);
+  ASSERT_EQ(quads.size(), 2u);
+  const std::array<Vec2, 4> expected = {Vec2(100, 20), Vec2(115, 20), Vec2(115, 35), Vec2(100, 35)};
+  EXPECT_GT(distance_to_nearest_quad({quads[0]}, expected), 2.0);  // as fitted
+  EXPECT_LT(distance_to_nearest_quad({quads[1]}, expected), 0.5);
+}
+
 TEST(DarkQuads, NotchesOfWhiteCellsDoNotPullASideIn) {
   // White data cells along the inside of the top border row that no ring crossed: the top side is
   // a castle wall, whose tops are the side.
