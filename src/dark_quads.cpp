@@ -255,8 +255,7 @@ void quad_of_outline(std::initializer_list<const std::vector<cv::Point>*> outlin
     const cv::Vec4f& other = lines[worse == k ? k + 2 : k];
     const float turn = std::abs(lines[worse][0] * other[1] - lines[worse][1] * other[0]);
     if (turn <= kMostFittedTurn || kept_points[worse].empty()) continue;
-    std::vector<float>& offsets = found;  // reused
-    offsets.clear();
+    std::vector<float> offsets;
     for (const cv::Point2f& p : kept_points[worse]) offsets.push_back(offset_from(other, p));
     const auto middle = offsets.begin() + static_cast<std::ptrdiff_t>(offsets.size() / 2);
     std::nth_element(offsets.begin(), middle, offsets.end());
