@@ -200,6 +200,15 @@ TEST(RingDecoding, ATenPixelSquareWithCutCornersAndARowShortIsRead) {
   EXPECT_EQ(counts.wrong, 0);
 }
 
+// The same tag at 16 m in other seeds: 10 pixels wide and 8 tall in the binary image (seeds 9 and
+// 10), whose box dark_quads now lets fall a ring spacing short of its width as read_quad does. The
+// sanitizer builds run seeds 9 and 10.
+TEST(RingDecoding, ASquareBoxARingShortIsACandidate) {
+  // Measured over seeds 1-10: 7 (not seeds 4 and 7, which do not decode at their true corners,
+  // nor 5, whose left border column is not dark); 5 with the box as tall as it is wide.
+  expect_tag36h11_found("os1-64", 1.0, 16.0, {9, 10, 1, 2, 3, 6, 8, 4, 5, 7}, 7);
+}
+
 // An OS1-128's 1 m tag at 23 m, 14 columns and 7 rings: where a ring grazed the top edge, its
 // mixed pixels join the black square to dark specks of the wall above, and the square's hull gets
 // a fifth or sixth vertex that approxPolyDP keeps (seed 5: a corner cut 2.02 pixels deep; seed 9:
@@ -210,15 +219,6 @@ TEST(RingDecoding, ASquareWithASpeckJoinedToItsHullIsRead) {
   // parallel to it (not seed 9, whose left side is found up to two pixels in); 8 when the hull had
   // to reduce to four vertices (not seed 5 either).
   expect_tag36h11_found("os1-128", 1.0, 23.0, {5, 1, 2, 3, 4, 6, 7, 8, 9, 10}, 9);
-}
-
-// The same tag at 16 m in other seeds: 10 pixels wide and 8 tall in the binary image (seeds 9 and
-// 10), whose box dark_quads now lets fall a ring spacing short of its width as read_quad does. The
-// sanitizer builds run seeds 9 and 10.
-TEST(RingDecoding, ASquareBoxARingShortIsACandidate) {
-  // Measured over seeds 1-10: 7 (not seeds 4 and 7, which do not decode at their true corners,
-  // nor 5, whose left border column is not dark); 5 with the box as tall as it is wide.
-  expect_tag36h11_found("os1-64", 1.0, 16.0, {9, 10, 1, 2, 3, 6, 8, 4, 5, 7}, 7);
 }
 
 // The same tag at 20 m (seed 1): the ring under the bottom border row grazed it, reading its left
