@@ -44,17 +44,10 @@ constexpr std::size_t kMostHullVertices = 7;
 constexpr double kMinShareOfHull = 0.75;
 constexpr double kMostSideTurn = 0.35;
 // The most a fitted side may turn from its opposite one (sine: about 8 degrees).
-constexpr float kMostFittedTurn = 0.14f;
+constexpr double kMostFittedTurn = 0.14;
 
-double area_of(const std::array<cv::Point, 4>& q) {
-  double twice = 0;
-  for (int k = 0; k < 4; ++k) twice += q[k].cross(q[(k + 1) % 4]);
-  return 0.5 * std::abs(twice);
-}
-
-// Sine of the angle between sides a and b, each given by its two ends.
-double turn_between(cv::Point a0, cv::Point a1, cv::Point b0, cv::Point b1) {
-  const cv::Point2d a = a1 - a0, b = b1 - b0;
+// Sine of the angle between directions a and b.
+double sine_between(const cv::Point2d& a, const cv::Point2d& b) {
   const double lengths = std::hypot(a.x, a.y) * std::hypot(b.x, b.y);
   return lengths > 0 ? std::abs(a.cross(b)) / lengths : 1.0;
 }
@@ -68,17 +61,18 @@ std::optional<std::vector<cv::Point>> squarest_four(const std::vector<cv::Point>
   const std::size_t n = poly.size();
   std::optional<std::vector<cv::Point>> best;
   double best_area = kMinShareOfHull * hull_area;
+  std::vector<cv::Point> q;
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = a + 1; b < n; ++b)
       for (std::size_t c = b + 1; c < n; ++c)
         for (std::size_t d = c + 1; d < n; ++d) {
-          const std::array<cv::Point, 4> q = {poly[a], poly[b], poly[c], poly[d]};
-          const double area = area_of(q);
-          if (area <= best_area || turn_between(q[0], q[1], q[3], q[2]) > kMostSideTurn ||
-              turn_between(q[1], q[2], q[0], q[3]) > kMostSideTurn)
+          q = {poly[a], poly[b], poly[c], poly[d]};
+          const double area = cv::contourArea(q);
+          if (area <= best_area || sine_between(q[1] - q[0], q[2] - q[3]) > kMostSideTurn ||
+              sine_between(q[2] - q[1], q[3] - q[0]) > kMostSideTurn)
             continue;
           best_area = area;
-          best = std::vector<cv::Point>(q.begin(), q.end());
+          best = q;
         }
   return best;
 }
@@ -184,8 +178,7 @@ void quad_of_outline(std::initializer_list<const std::vector<cv::Point>*> outlin
   cv::Point2f centre(0, 0);
   for (const cv::Point& p : poly) centre += cv::Point2f(p) * 0.25f;
   std::array<cv::Vec4f, 4> lines;
-  std::array<std::vector<cv::Point2f>, 4> kept_points;
-  std::array<float, 4> spread = {0, 0, 0, 0};
+  std::array<std::vector<cv::Point2f>, 4> kept_points;  // empty for a hull's edge
   std::vector<cv::Point2f> side;
   std::vector<float> outermost, found;
   for (int k = 0; k < 4; ++k) {
@@ -225,12 +218,6 @@ void quad_of_outline(std::initializer_list<const std::vector<cv::Point>*> outlin
     side.resize(kept);
     if (side.size() >= 3) {
       cv::fitLine(side, lines[k], cv::DIST_L2, 0, 0.01, 0.01);
-      double squares = 0;
-      for (const cv::Point2f& p : side) {
-        const float off = offset_from(lines[k], p);
-        squares += off * off;
-      }
-      spread[k] = static_cast<float>(std::sqrt(squares / static_cast<double>(side.size())));
       kept_points[k] = side;
     } else {
       // Too few outline points along the side to fit (a border row no ring crossed, with white
@@ -248,13 +235,24 @@ void quad_of_outline(std::initializer_list<const std::vector<cv::Point>*> outlin
   // worse fitted of the two (the larger spread of its points) laid parallel to its opposite,
   // through the median of its points: a second quad, as a blob's nested outlines give, read
   // apart and kept once per id.
+  // RMS distance of side k's kept points from its line (0 for a hull's edge).
+  const auto spread = [&](int k) {
+    double squares = 0;
+    for (const cv::Point2f& p : kept_points[k]) {
+      const float off = offset_from(lines[k], p);
+      squares += off * off;
+    }
+    const auto n = static_cast<double>(kept_points[k].size());
+    return n > 0 ? static_cast<float>(std::sqrt(squares / n)) : 0.0f;
+  };
+  const auto direction = [](const cv::Vec4f& l) { return cv::Point2d(l[0], l[1]); };
   std::array<cv::Vec4f, 4> parallel = lines;
   bool relaid = false;
   for (int k = 0; k < 2; ++k) {
-    const int worse = spread[k] >= spread[k + 2] ? k : k + 2;
+    if (sine_between(direction(lines[k]), direction(lines[k + 2])) <= kMostFittedTurn) continue;
+    const int worse = spread(k) >= spread(k + 2) ? k : k + 2;
+    if (kept_points[worse].empty()) continue;
     const cv::Vec4f& other = lines[worse == k ? k + 2 : k];
-    const float turn = std::abs(lines[worse][0] * other[1] - lines[worse][1] * other[0]);
-    if (turn <= kMostFittedTurn || kept_points[worse].empty()) continue;
     std::vector<float> offsets;
     for (const cv::Point2f& p : kept_points[worse]) offsets.push_back(offset_from(other, p));
     const auto middle = offsets.begin() + static_cast<std::ptrdiff_t>(offsets.size() / 2);
