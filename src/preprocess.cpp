@@ -228,20 +228,40 @@ double percentile_99(const cv::Mat& intensity, const cv::Mat& mask) {
 // repeats the one above (`repeats_row_above`) is counted with it: its row's count goes up by one.
 double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask,
                       const std::vector<std::uint8_t>& repeats_row_above, double scale) {
-  int histogram[256] = {};
-  int total = 0;
+  // Eight mask bytes at a time: runs of unobserved pixels (outside a Livox's circle, a sparse
+  // frame's gaps) are skipped whole, and the rest go without a branch on the mask, unobserved
+  // ones to bins 256-511. Four histograms, so that neighbouring pixels of one value do not wait
+  // on each other's increments.
+  int counts[4][512] = {};
+  const auto bin = [](std::uint8_t value, std::uint8_t observed) {
+    return value | (static_cast<int>(observed == 0) << 8);
+  };
   for (int r = 0; r < gray.rows;) {
     int copies = 1;
     while (r + copies < gray.rows && repeats_row_above[static_cast<std::size_t>(r + copies)])
       ++copies;
     const std::uint8_t* g = gray.ptr<std::uint8_t>(r);
     const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
-    for (int c = 0; c < gray.cols; ++c)
-      if (m[c]) {
-        histogram[g[c]] += copies;
-        total += copies;
+    int c = 0;
+    for (; c + 8 <= gray.cols; c += 8) {
+      std::uint64_t word;
+      std::memcpy(&word, m + c, sizeof word);
+      if (word == 0) continue;
+      for (int k = 0; k < 8; k += 4) {
+        counts[0][bin(g[c + k], m[c + k])] += copies;
+        counts[1][bin(g[c + k + 1], m[c + k + 1])] += copies;
+        counts[2][bin(g[c + k + 2], m[c + k + 2])] += copies;
+        counts[3][bin(g[c + k + 3], m[c + k + 3])] += copies;
       }
+    }
+    for (; c < gray.cols; ++c) counts[0][bin(g[c], m[c])] += copies;
     r += copies;
+  }
+  int histogram[256] = {};
+  int total = 0;
+  for (int i = 0; i < 256; ++i) {
+    histogram[i] = counts[0][i] + counts[1][i] + counts[2][i] + counts[3][i];
+    total += histogram[i];
   }
   double sum_all = 0;
   for (int i = 0; i < 256; ++i) sum_all += i * static_cast<double>(histogram[i]);
