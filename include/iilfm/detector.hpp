@@ -48,6 +48,12 @@ struct AprilTagOptions {
   // boundaries (src/detectors/search_regions.hpp; docs/detectors.md) instead of on every pixel.
   // Needs decimate 1 and sigma 0; the whole image is searched otherwise.
   bool search_regions = true;
+  // With search_regions: a region whose outermost quad-shaped boundaries all span at least this
+  // many pixels a cell of the family's black square has its quads found at half resolution
+  // (libapriltag's quad_decimate 2; edges are still refined and cells read at full resolution).
+  // A VLP-16's 17 cm tag at 1 m spans 10 pixels a cell: its frame's instructions fall 13 %.
+  // 0 = never (docs/detectors.md, "Large outlines at half resolution").
+  double half_resolution_px_per_cell = 6;
   // Given the binary image and the gray one it was thresholded from (DetectorImages): where a
   // search region's binary pixels decode nothing, run libapriltag again on its gray pixels
   // (those without a value keep their binary class; regions where under a fifth hold a value are

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <utility>
@@ -83,6 +84,9 @@ class AprilTagDetector final : public MarkerDetector {
     gray_max_hamming_ = bits_within_chance(family_->ncodes, static_cast<int>(family_->nbits), bits);
     rules_.reach = decode_reach(*family_);
     rules_.min_side_px = std::max(3, family_->width_at_border - 1);
+    half_resolution_from_px_ = options.half_resolution_px_per_cell > 0
+                                   ? options.half_resolution_px_per_cell * family_->width_at_border
+                                   : std::numeric_limits<double>::infinity();
   }
   ~AprilTagDetector() override {
     zarray_clear(detector_->tag_families);  // the shared family and its table stay
@@ -109,9 +113,10 @@ class AprilTagDetector final : public MarkerDetector {
       return;
     }
     detect_in_search_regions(
-        binary, use_regions_, rules, crop_, [&](const cv::Mat& part, cv::Point origin) {
+        binary, use_regions_, rules, crop_,
+        [&](const cv::Mat& part, cv::Point origin, int least_outer_side_px) {
           const std::size_t before = out.size();
-          detect_in(part, origin, out);
+          detect_in(part, origin, least_outer_side_px, out);
           const cv::Rect box(origin, part.size());
           // Binary first, because gray alone lost sharp markers 1.7 pixels a cell wide that the
           // binary image decodes (ULTRA Puck, tag grid at 3.5 m). An image searched whole is a
@@ -128,7 +133,7 @@ class AprilTagDetector final : public MarkerDetector {
           // wall stays white, not the gray image's black).
           images.gray(box).copyTo(gray_crop_);
           binary(box).copyTo(gray_crop_, images.valid(box) == 0);
-          detect_in(gray_crop_, origin, out);
+          detect_in(gray_crop_, origin, least_outer_side_px, out);
           // A second try on a quad the binary pixels could not read keeps only readings unlikely by
           // chance (kMaxChanceMatch), whatever the family corrects: with the gray pixels unclipped,
           // a 17 cm DICT_ARUCO_ORIGINAL marker at 10 m from an Avia (1.4 pixels a cell) read as
@@ -144,16 +149,23 @@ class AprilTagDetector final : public MarkerDetector {
   void detect_with(const cv::Mat& gray, const SearchRegionRules& rules,
                    std::vector<Detection>& out) {
     CV_Assert(gray.type() == CV_8UC1);
-    detect_in_search_regions(
-        gray, use_regions_, rules, crop_,
-        [&](const cv::Mat& part, cv::Point origin) { detect_in(part, origin, out); });
+    detect_in_search_regions(gray, use_regions_, rules, crop_,
+                             [&](const cv::Mat& part, cv::Point origin, int least_outer_side_px) {
+                               detect_in(part, origin, least_outer_side_px, out);
+                             });
   }
 
-  // Runs libapriltag on `image`, whose pixel (0, 0) is `origin` of the detector's input.
-  void detect_in(const cv::Mat& image, cv::Point origin, std::vector<Detection>& out) {
+  // Runs libapriltag on `image`, whose pixel (0, 0) is `origin` of the detector's input. Where
+  // the region's outermost outlines span half_resolution_px_per_cell pixels a cell or more,
+  // libapriltag finds its quads at half the resolution (a quarter of the pixels to threshold,
+  // join and cluster); edge refinement and decoding still read every pixel.
+  void detect_in(const cv::Mat& image, cv::Point origin, int least_outer_side_px,
+                 std::vector<Detection>& out) {
     // libapriltag 3.3 reads outside images under 6 pixels wide or high (a one-row image from a
     // degenerate cloud crashed the fuzzer); upstream now returns nothing for them, and no tag fits.
     if (image.cols < 6 || image.rows < 6) return;
+    if (use_regions_)
+      detector_->quad_decimate = least_outer_side_px >= half_resolution_from_px_ ? 2.0f : 1.0f;
     image_u8_t view{image.cols, image.rows, static_cast<std::int32_t>(image.step[0]),
                     const_cast<std::uint8_t*>(image.ptr<std::uint8_t>())};
     zarray_t* found = apriltag_detector_detect(detector_, &view);
@@ -182,7 +194,8 @@ class AprilTagDetector final : public MarkerDetector {
   apriltag_detector_t* detector_ = nullptr;
   bool use_regions_ = false;
   bool decode_gray_ = true;
-  int gray_max_hamming_ = 0;  // errors a reading of the gray pixels may have
+  int gray_max_hamming_ = 0;            // errors a reading of the gray pixels may have
+  double half_resolution_from_px_ = 0;  // a region's least outer side for half resolution
   SearchRegionRules rules_;
   cv::Mat crop_;       // a search region's pixels, reused from call to call
   cv::Mat gray_crop_;  // its gray pixels, when the binary ones decoded nothing

@@ -61,7 +61,9 @@ class ArucoDetector final : public MarkerDetector {
     CV_Assert(gray.type() == CV_8UC1);
     detect_in_search_regions(
         gray, options_.search_regions, rules, crop_,
-        [&](const cv::Mat& part, cv::Point origin) { detect_in(gray, part, origin, out); });
+        [&](const cv::Mat& part, cv::Point origin, int /*least_outer_side_px*/) {
+          detect_in(gray, part, origin, out);
+        });
   }
 
   // Detects in `part` of `gray`, whose pixel (0, 0) is `origin` of `gray`.

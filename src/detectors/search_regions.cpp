@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "../banded_contours.hpp"
@@ -55,16 +56,18 @@ bool could_be_quad(const std::vector<cv::Point>& contour, const cv::Rect& box, c
          cv::contourArea(contour) >= rules.min_hull_fill * cv::contourArea(hull);
 }
 
-// Unites overlapping boxes until all are disjoint, so every boundary lies whole in one box.
-void merge_overlapping(std::vector<cv::Rect>& boxes) {
+// Unites overlapping regions until all are disjoint, so every boundary lies whole in one.
+void merge_overlapping(std::vector<SearchRegion>& regions) {
   for (bool merged = true; merged;) {
     merged = false;
-    for (std::size_t i = 0; i < boxes.size(); ++i) {
-      for (std::size_t j = i + 1; j < boxes.size();) {
-        if ((boxes[i] & boxes[j]).area() > 0) {
-          boxes[i] |= boxes[j];
-          boxes[j] = boxes.back();
-          boxes.pop_back();
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+      for (std::size_t j = i + 1; j < regions.size();) {
+        if ((regions[i].box & regions[j].box).area() > 0) {
+          regions[i].box |= regions[j].box;
+          regions[i].least_outer_side_px =
+              std::min(regions[i].least_outer_side_px, regions[j].least_outer_side_px);
+          regions[j] = regions.back();
+          regions.pop_back();
           merged = true;
         } else {
           ++j;
@@ -107,18 +110,21 @@ IILFM_AVX2_CLONES bool is_binary(const cv::Mat& image) {
   return true;
 }
 
-std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules) {
+std::vector<SearchRegion> sized_search_regions(const cv::Mat& binary,
+                                               const SearchRegionRules& rules) {
   const cv::Size size = binary.size();
-  const std::vector<cv::Rect> whole{cv::Rect(cv::Point(0, 0), size)};
+  const std::vector<SearchRegion> whole{{cv::Rect(cv::Point(0, 0), size), 0}};
   const int crossing = rules.crossing_column;
   if (crossing < 0 && static_cast<double>(row_changes(binary)) >
                           rules.max_change_density * static_cast<double>(size.area()))
     return whole;
   thread_local std::vector<std::vector<cv::Point>> contours;
   thread_local std::vector<cv::Point> polygon;
+  thread_local std::vector<cv::Rect> outlines;
   // Those spanning the width touch the image's edges: could_be_quad drops them anyway.
   contours_narrower_than_image(binary, cv::RETR_LIST, cv::CHAIN_APPROX_SIMPLE, contours);
-  std::vector<cv::Rect> boxes;
+  std::vector<SearchRegion> regions;
+  outlines.clear();
   for (const std::vector<cv::Point>& contour : contours) {
     const cv::Rect box = cv::boundingRect(contour);
     const int longer = std::max(box.width, box.height);
@@ -126,13 +132,31 @@ std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRu
     const cv::Rect region = widened(box, margin, size);
     if (crossing >= 0 && (region.x > crossing || region.br().x <= crossing)) continue;
     if (!could_be_quad(contour, box, size, rules, polygon)) continue;
-    if (boxes.size() == kMostCandidates) return whole;
-    boxes.push_back(region);
+    if (regions.size() == kMostCandidates) return whole;
+    // A turned square's box is up to 1.41 times its side: the side is the rotated box's.
+    const cv::Size2f turned = cv::minAreaRect(contour).size;
+    regions.push_back({region, static_cast<int>(std::min(turned.width, turned.height))});
+    outlines.push_back(box);
   }
-  merge_overlapping(boxes);
+  // A candidate inside another's box (a cell inside a marker's border, the border's own inner
+  // outline) does not set its region's least side.
+  for (std::size_t i = 0; i < outlines.size(); ++i)
+    for (std::size_t j = 0; j < outlines.size(); ++j)
+      if (j != i && outlines[i] != outlines[j] && (outlines[i] & outlines[j]) == outlines[i]) {
+        regions[i].least_outer_side_px = std::numeric_limits<int>::max();
+        break;
+      }
+  merge_overlapping(regions);
   double area = 0;
-  for (const cv::Rect& box : boxes) area += box.area();
+  for (const SearchRegion& region : regions) area += region.box.area();
   if (area > rules.max_coverage * static_cast<double>(size.area())) return whole;
+  return regions;
+}
+
+std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules) {
+  std::vector<cv::Rect> boxes;
+  for (const SearchRegion& region : sized_search_regions(binary, rules))
+    boxes.push_back(region.box);
   return boxes;
 }
 

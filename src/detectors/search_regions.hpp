@@ -41,6 +41,15 @@ struct SearchRegionRules {
 // True when every pixel of the 8-bit image is 0 or 255.
 bool is_binary(const cv::Mat& image);
 
+// A search region, and the shorter side (of the least-area turned rectangle) of the smallest
+// boundary in it that no other candidate's box holds (its outermost candidates: markers' borders,
+// not the cells inside them); 0 for the whole image. A detector may look for quads at a coarser
+// scale in a region of large outlines.
+struct SearchRegion {
+  cv::Rect box;
+  int least_outer_side_px = 0;
+};
+
 // Disjoint boxes of `binary` (0 or 255) covering every black-white boundary that could be the
 // border of a marker, each widened by the rules' reach and margin and aligned to libapriltag's
 // 4-pixel threshold tiles, so that the threshold libapriltag computes inside a box is the one it
@@ -48,24 +57,27 @@ bool is_binary(const cv::Mat& image);
 // marker's border needs white beyond it inside the image. Returns the whole image when the boxes
 // would cover more than max_coverage of it or the image changes too often to be worth tracing
 // (unless only crossing_column's boundaries are wanted), and nothing when no boundary qualifies.
+std::vector<SearchRegion> sized_search_regions(const cv::Mat& binary,
+                                               const SearchRegionRules& rules);
+// The boxes of sized_search_regions.
 std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules);
 
-// Calls detect_in(part, origin) for each search region of `image` (a copy of its pixels in
-// `crop`, whose pixel (0, 0) is `origin` of the image), or once for the whole image when `use`
-// is false or the image is not binary.
+// Calls detect_in(part, origin, least_outer_side_px) for each search region of `image` (a copy of
+// its pixels in `crop`, whose pixel (0, 0) is `origin` of the image), or once for the whole image
+// (with 0) when `use` is false or the image is not binary.
 template <typename DetectIn>
 void detect_in_search_regions(const cv::Mat& image, bool use, const SearchRegionRules& rules,
                               cv::Mat& crop, DetectIn&& detect_in) {
   if (!use || !is_binary(image)) {
-    detect_in(image, cv::Point(0, 0));
+    detect_in(image, cv::Point(0, 0), 0);
     return;
   }
-  for (const cv::Rect& box : search_regions(image, rules)) {
-    if (box.size() == image.size()) {
-      detect_in(image, cv::Point(0, 0));
+  for (const SearchRegion& region : sized_search_regions(image, rules)) {
+    if (region.box.size() == image.size()) {
+      detect_in(image, cv::Point(0, 0), 0);
     } else {
-      image(box).copyTo(crop);
-      detect_in(crop, box.tl());
+      image(region.box).copyTo(crop);
+      detect_in(crop, region.box.tl(), region.least_outer_side_px);
     }
   }
 }

@@ -197,6 +197,7 @@ TEST_P(SearchRegionFamilies, FindTheMarkersOfTheWholeImage) {
   const cv::Mat image = scene(family);
   std::vector<Detection> in_regions, whole;
   DetectorOptions options;
+  options.apriltag.half_resolution_px_per_cell = 0;  // every region at full resolution
   make_detector(family, options)->detect(image, in_regions);
   options.apriltag.search_regions = options.aruco.search_regions = false;
   make_detector(family, options)->detect(image, whole);
@@ -221,6 +222,51 @@ INSTANTIATE_TEST_SUITE_P(Families, SearchRegionFamilies,
                                            "apriltag:tag25h9", "apriltag:tagStandard41h12",
                                            "apriltag:tagCustom48h12", "aruco:DICT_4X4_50",
                                            "aruco:DICT_6X6_250"));
+
+// Each region knows the shorter side of its smallest outermost outline: the tags' black squares,
+// not the cells inside them.
+TEST(SearchRegions, ARegionKnowsTheSmallestOutlineThatNoOtherHolds) {
+  const cv::Mat image = scene("apriltag:tag36h11");
+  const std::vector<detail::SearchRegion> regions =
+      detail::sized_search_regions(image, SearchRegionRules{});
+  const auto least_side_around = [&](cv::Point centre) {
+    for (const detail::SearchRegion& r : regions)
+      if (r.box.contains(centre)) return r.least_outer_side_px;
+    return -1;
+  };
+  // Tag 0: 120 px with its one-cell margin, so a 96 px black square (and 12 px cells inside it).
+  EXPECT_NEAR(least_side_around({150, 100}), 96, 2);
+  // Tag 3: 44 px turned by 40 degrees, a 35 px black square (its upright box: 50 px).
+  EXPECT_NEAR(least_side_around({900, 120}), 35, 2);
+}
+
+// Where every outline of a region spans half_resolution_px_per_cell pixels a cell (tags 0, 1 and 2
+// here, 7-12 px a cell; not tag 3, 4.4), libapriltag finds the quads at half resolution. The same
+// markers come out, their corners within a quarter pixel of the full resolution's (edges are
+// refined at full resolution).
+TEST(SearchRegionDetector, LargeOutlinesFoundAtHalfResolutionKeepTheirCorners) {
+  for (const std::string family : {"apriltag:tag36h11", "apriltag:tag25h9"}) {
+    const cv::Mat image = scene(family);
+    DetectorOptions options;
+    std::vector<Detection> half, full;
+    make_detector(family, options)->detect(image, half);
+    options.apriltag.half_resolution_px_per_cell = 0;
+    make_detector(family, options)->detect(image, full);
+    ASSERT_EQ(full.size(), 4u) << family;
+    ASSERT_EQ(half.size(), full.size()) << family;
+    const auto by_id = [](const Detection& a, const Detection& b) { return a.id < b.id; };
+    std::sort(half.begin(), half.end(), by_id);
+    std::sort(full.begin(), full.end(), by_id);
+    double moved = 0;
+    for (std::size_t i = 0; i < full.size(); ++i) {
+      EXPECT_EQ(half[i].id, full[i].id);
+      for (int k = 0; k < 4; ++k)
+        moved = std::max(moved, (half[i].corners_px[k] - full[i].corners_px[k]).norm());
+    }
+    EXPECT_LT(moved, 0.3) << family;  // measured 0.25 (tag36h11)
+    EXPECT_GT(moved, 0.0) << family;  // some region was searched at half resolution
+  }
+}
 
 TEST(SearchRegionDetector, AGrayImageIsSearchedWhole) {
   // A dark-gray tag on a light-gray wall: no pixel is 0, so a region search would see one
