@@ -164,8 +164,12 @@ class AprilTagDetector final : public MarkerDetector {
     // libapriltag 3.3 reads outside images under 6 pixels wide or high (a one-row image from a
     // degenerate cloud crashed the fuzzer); upstream now returns nothing for them, and no tag fits.
     if (image.cols < 6 || image.rows < 6) return;
+    // At half resolution the image libapriltag segments must still be 6 pixels each way.
     if (use_regions_)
-      detector_->quad_decimate = least_outer_side_px >= half_resolution_from_px_ ? 2.0f : 1.0f;
+      detector_->quad_decimate =
+          least_outer_side_px >= half_resolution_from_px_ && image.cols >= 12 && image.rows >= 12
+              ? 2.0f
+              : 1.0f;
     image_u8_t view{image.cols, image.rows, static_cast<std::int32_t>(image.step[0]),
                     const_cast<std::uint8_t*>(image.ptr<std::uint8_t>())};
     zarray_t* found = apriltag_detector_detect(detector_, &view);
