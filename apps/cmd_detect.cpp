@@ -51,6 +51,7 @@ struct DetectArgs {
   bool no_edge_refine = false;
   bool no_search_regions = false;
   bool no_gray_decode = false;
+  bool full_resolution_quads = false;
   bool no_ring_decode = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   double blur = 0;
@@ -160,6 +161,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.detector.apriltag.search_regions = !args.no_search_regions;
   options.detector.aruco.search_regions = !args.no_search_regions;
   options.detector.apriltag.decode_gray = !args.no_gray_decode;
+  if (args.full_resolution_quads) options.detector.apriltag.half_resolution_px_per_cell = 0;
   set_threads(options, args.threads);
   options.detector.apriltag.max_hamming = args.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(args.aruco_refine);
@@ -446,6 +448,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-gray-decode", args->no_gray_decode,
                 "AprilTag: segment and decode the binary image itself, not the gray pixels inside "
                 "its search regions");
+  cmd->add_flag("--full-resolution-quads", args->full_resolution_quads,
+                "AprilTag: find quads at full resolution in every search region, also where its "
+                "outlines are large enough to find at half resolution (slower)");
   cmd->add_option(
          "--threads", args->threads,
          "threads for projecting and preprocessing large clouds, for lifting markers and for "

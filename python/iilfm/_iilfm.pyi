@@ -177,6 +177,7 @@ class Pipeline:
         ring_candidates: bool = True,
         search_regions: bool = True,
         gray_decode: bool = True,
+        half_resolution: bool = True,
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""

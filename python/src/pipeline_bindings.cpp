@@ -39,6 +39,7 @@ struct Options {
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   bool search_regions = AprilTagOptions{}.search_regions;
   bool gray_decode = AprilTagOptions{}.decode_gray;
+  bool half_resolution = true;
   float decimate = 1, quad_sigma = 0;
   int threads = 1, max_hamming = -1;
   int aruco_window_min = ArucoOptions{}.window_min, aruco_window_max = ArucoOptions{}.window_max,
@@ -96,6 +97,7 @@ PipelineOptions pipeline_options(const Options& a) {
   options.detector.apriltag.search_regions = a.search_regions;
   options.detector.aruco.search_regions = a.search_regions;
   options.detector.apriltag.decode_gray = a.gray_decode;
+  if (!a.half_resolution) options.detector.apriltag.half_resolution_px_per_cell = 0;
   set_threads(options, a.threads);
   options.detector.apriltag.max_hamming = a.max_hamming;
   options.detector.aruco.refine = aruco_refine_named(a.aruco_refine);
@@ -510,77 +512,79 @@ void register_pipeline(py::module_& m) {
   py::class_<PyPipeline>(m, "Pipeline",
                          "Detection pipeline: projection, preprocessing, detection, lifting, "
                          "pose. Options mirror `iilfm detect`'s; one Pipeline per thread.")
-      .def(py::init([](std::optional<std::string> sensor, std::vector<std::string> markers,
-                       std::optional<std::filesystem::path> map, std::optional<double> res_h,
-                       std::optional<double> res_v, std::optional<double> marker_size,
-                       std::optional<std::vector<int>> ids, py::object threshold, std::string lift,
-                       std::string collision, double blur, bool gray, float decimate,
-                       float quad_sigma, bool refine_edges, int threads, int max_hamming,
-                       std::string aruco_refine, int aruco_window_min, int aruco_window_max,
-                       int aruco_window_step, std::string pose_refine,
-                       std::string normalise_intensity, bool ring_decode, bool ring_candidates,
-                       bool search_regions, bool gray_decode) {
-             Options o;
-             o.sensor = std::move(sensor);
-             o.markers = std::move(markers);
-             if (map) o.map = map->string();
-             o.res_h = res_h;
-             o.res_v = res_v;
-             o.marker_size = marker_size;
-             o.ids = std::move(ids);
-             o.threshold = std::move(threshold);
-             o.lift = std::move(lift);
-             o.collision = std::move(collision);
-             o.blur = blur;
-             o.gray = gray;
-             o.decimate = decimate;
-             o.quad_sigma = quad_sigma;
-             o.refine_edges = refine_edges;
-             o.threads = threads;
-             o.max_hamming = max_hamming;
-             o.aruco_refine = std::move(aruco_refine);
-             o.aruco_window_min = aruco_window_min;
-             o.aruco_window_max = aruco_window_max;
-             o.aruco_window_step = aruco_window_step;
-             o.pose_refine = std::move(pose_refine);
-             o.normalise_intensity = std::move(normalise_intensity);
-             o.ring_decode = ring_decode;
-             o.ring_candidates = ring_candidates;
-             o.search_regions = search_regions;
-             o.gray_decode = gray_decode;
-             return std::make_unique<PyPipeline>(o);
-           }),
-           py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
-           py::arg("map") = py::none(), py::kw_only(), py::arg("res_h") = py::none(),
-           py::arg("res_v") = py::none(), py::arg("marker_size") = py::none(),
-           py::arg("ids") = py::none(), py::arg("threshold") = py::none(),
-           py::arg("lift") = "plane", py::arg("collision") = "mean", py::arg("blur") = 0.0,
-           py::arg("gray") = false, py::arg("decimate") = 1.0f, py::arg("quad_sigma") = 0.0f,
-           py::arg("refine_edges") = true, py::arg("threads") = 1, py::arg("max_hamming") = -1,
-           py::arg("aruco_refine") = "contour",
-           py::arg("aruco_window_min") = ArucoOptions{}.window_min,
-           py::arg("aruco_window_max") = ArucoOptions{}.window_max,
-           py::arg("aruco_window_step") = ArucoOptions{}.window_step,
-           py::arg("pose_refine") = to_string(LidarPoseOptions{}.refine),
-           py::arg("normalise_intensity") = "",
-           py::arg("ring_decode") = PipelineOptions{}.ring_decode,
-           py::arg("ring_candidates") = PipelineOptions{}.ring_candidates,
-           py::arg("search_regions") = AprilTagOptions{}.search_regions,
-           py::arg("gray_decode") = AprilTagOptions{}.decode_gray,
-           "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
-           "neither, the resolution is estimated from the first cloud detected (as `iilfm "
-           "detect` does without --sensor) and kept for later frames (see resolution).\n"
-           "markers: families, e.g. ['apriltag:tag36h11', 'aruco:DICT_4X4_50'] "
-           "(default apriltag:tag36h11).\n"
-           "map: marker map YAML path; enables the LiDAR pose.\n"
-           "ids: the ids of the markers in the scene (every family), as --ids: only they are "
-           "reported, and sparse rings read them farther (the map's ids are always read so).\n"
-           "Other keywords are `iilfm detect`'s options with '-' as '_' (threshold: number or "
-           "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
-           "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "
-           "--no-ring-decode; ring_candidates=False is --no-ring-candidates; search_regions=False "
-           "is --no-search-regions; gray_decode=False is --no-gray-decode).\n"
-           "Raises InputError with the program's message for bad options, presets or maps.")
+      .def(
+          py::init([](std::optional<std::string> sensor, std::vector<std::string> markers,
+                      std::optional<std::filesystem::path> map, std::optional<double> res_h,
+                      std::optional<double> res_v, std::optional<double> marker_size,
+                      std::optional<std::vector<int>> ids, py::object threshold, std::string lift,
+                      std::string collision, double blur, bool gray, float decimate,
+                      float quad_sigma, bool refine_edges, int threads, int max_hamming,
+                      std::string aruco_refine, int aruco_window_min, int aruco_window_max,
+                      int aruco_window_step, std::string pose_refine,
+                      std::string normalise_intensity, bool ring_decode, bool ring_candidates,
+                      bool search_regions, bool gray_decode, bool half_resolution) {
+            Options o;
+            o.sensor = std::move(sensor);
+            o.markers = std::move(markers);
+            if (map) o.map = map->string();
+            o.res_h = res_h;
+            o.res_v = res_v;
+            o.marker_size = marker_size;
+            o.ids = std::move(ids);
+            o.threshold = std::move(threshold);
+            o.lift = std::move(lift);
+            o.collision = std::move(collision);
+            o.blur = blur;
+            o.gray = gray;
+            o.decimate = decimate;
+            o.quad_sigma = quad_sigma;
+            o.refine_edges = refine_edges;
+            o.threads = threads;
+            o.max_hamming = max_hamming;
+            o.aruco_refine = std::move(aruco_refine);
+            o.aruco_window_min = aruco_window_min;
+            o.aruco_window_max = aruco_window_max;
+            o.aruco_window_step = aruco_window_step;
+            o.pose_refine = std::move(pose_refine);
+            o.normalise_intensity = std::move(normalise_intensity);
+            o.ring_decode = ring_decode;
+            o.ring_candidates = ring_candidates;
+            o.search_regions = search_regions;
+            o.gray_decode = gray_decode;
+            o.half_resolution = half_resolution;
+            return std::make_unique<PyPipeline>(o);
+          }),
+          py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
+          py::arg("map") = py::none(), py::kw_only(), py::arg("res_h") = py::none(),
+          py::arg("res_v") = py::none(), py::arg("marker_size") = py::none(),
+          py::arg("ids") = py::none(), py::arg("threshold") = py::none(), py::arg("lift") = "plane",
+          py::arg("collision") = "mean", py::arg("blur") = 0.0, py::arg("gray") = false,
+          py::arg("decimate") = 1.0f, py::arg("quad_sigma") = 0.0f, py::arg("refine_edges") = true,
+          py::arg("threads") = 1, py::arg("max_hamming") = -1, py::arg("aruco_refine") = "contour",
+          py::arg("aruco_window_min") = ArucoOptions{}.window_min,
+          py::arg("aruco_window_max") = ArucoOptions{}.window_max,
+          py::arg("aruco_window_step") = ArucoOptions{}.window_step,
+          py::arg("pose_refine") = to_string(LidarPoseOptions{}.refine),
+          py::arg("normalise_intensity") = "",
+          py::arg("ring_decode") = PipelineOptions{}.ring_decode,
+          py::arg("ring_candidates") = PipelineOptions{}.ring_candidates,
+          py::arg("search_regions") = AprilTagOptions{}.search_regions,
+          py::arg("gray_decode") = AprilTagOptions{}.decode_gray, py::arg("half_resolution") = true,
+          "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
+          "neither, the resolution is estimated from the first cloud detected (as `iilfm "
+          "detect` does without --sensor) and kept for later frames (see resolution).\n"
+          "markers: families, e.g. ['apriltag:tag36h11', 'aruco:DICT_4X4_50'] "
+          "(default apriltag:tag36h11).\n"
+          "map: marker map YAML path; enables the LiDAR pose.\n"
+          "ids: the ids of the markers in the scene (every family), as --ids: only they are "
+          "reported, and sparse rings read them farther (the map's ids are always read so).\n"
+          "Other keywords are `iilfm detect`'s options with '-' as '_' (threshold: number or "
+          "'otsu'; normalise_intensity: 'none', 'range' or 'range-incidence', '' = the preset's; "
+          "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "
+          "--no-ring-decode; ring_candidates=False is --no-ring-candidates; search_regions=False "
+          "is --no-search-regions; gray_decode=False is --no-gray-decode; half_resolution=False is "
+          "--full-resolution-quads).\n"
+          "Raises InputError with the program's message for bad options, presets or maps.")
       .def("detect", &PyPipeline::detect, py::arg("points"),
            "Runs every stage on one frame. points: an (N, >=4) array of x, y, z, intensity[, ...] "
            "(float32 is read in place, any strides; other dtypes are converted once), a dict of "

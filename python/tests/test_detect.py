@@ -195,16 +195,19 @@ def test_ring_decoding_options_reach_the_pipeline():
 def test_search_regions_find_the_markers_of_the_whole_image():
     """AprilTag and ArUco search only around quad-shaped boundaries by default
     (docs/detectors.md, "Search regions"); search_regions=False searches every pixel. Same markers,
-    corners within a quarter pixel: libapriltag's rounding, and the VLP-16's 60 cm tag (over 6 pixels
-    a cell, measured 0.2 px) has its quad found at half resolution (docs/detectors.md)."""
+    corners within libapriltag's rounding; by default a region of large outlines (the VLP-16's 60
+    cm tag, over 6 pixels a cell) has its quads found at half resolution, which moves corners by
+    up to a quarter pixel (measured 0.2), and half_resolution=False finds them at full resolution."""
     for sensor, size, frames in (("vlp16", 0.6, 1), ("mid40", 0.172, 10)):
         cloud, _ = iilfm.simulate(sensor=sensor, seed=2, frames=frames, marker_size=size,
                                   distance=2.0)
-        def markers(**options):
-            return iilfm.Pipeline(sensor, marker_size=size, **options).detect(cloud).markers
-        near, whole = markers(), markers(search_regions=False)
-        assert [m.id for m in near] == [m.id for m in whole] == [0], sensor
-        assert np.abs(np.asarray(near[0].corners_px) - np.asarray(whole[0].corners_px)).max() < 0.25
+        def corners(**options):
+            markers = iilfm.Pipeline(sensor, marker_size=size, **options).detect(cloud).markers
+            assert [m.id for m in markers] == [0], (sensor, options)
+            return np.asarray(markers[0].corners_px)
+        whole = corners(search_regions=False)
+        assert np.abs(corners(half_resolution=False) - whole).max() < 0.15, sensor
+        assert np.abs(corners() - whole).max() < 0.25, sensor
 
 
 def test_gray_decode_reads_a_small_far_ouster_marker():
