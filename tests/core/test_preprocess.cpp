@@ -406,6 +406,35 @@ double otsu_of_every_pixel(const cv::Mat& gray, const cv::Mat& valid) {
   return best_t;
 }
 
+// Otsu's histogram skips runs of eight unobserved pixels at once (a Livox image's corners outside
+// its circle, a single frame's gaps) and counts the rest without a branch: the threshold must be
+// the textbook one over the observed pixels, with rows whose width is no multiple of eight.
+TEST(Preprocess, OtsuOverASparseCircleIsTheTextbookOne) {
+  constexpr int kSide = 301;
+  PreprocessedImage image;
+  image.gray = cv::Mat(kSide, kSide, CV_8U);
+  image.valid = cv::Mat(kSide, kSide, CV_8U, cv::Scalar(0));
+  image.repeats_row_above.assign(kSide, 0);
+  image.intensity_scale = 2.0;
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> any_level(0, 255);
+  std::bernoulli_distribution seen(0.05), dark(0.3);
+  int observed = 0;
+  for (int r = 0; r < kSide; ++r)
+    for (int c = 0; c < kSide; ++c) {
+      // Unobserved pixels hold any level: only the mask may keep them out.
+      image.gray.at<uchar>(r, c) = static_cast<uchar>(any_level(rng));
+      const double from_centre = std::hypot(r - kSide / 2, c - kSide / 2);
+      if (from_centre > kSide / 2 || !seen(rng)) continue;
+      image.valid.at<uchar>(r, c) = 255;
+      image.gray.at<uchar>(r, c) = static_cast<uchar>(dark(rng) ? 30 + r % 20 : 180 + c % 40);
+      ++observed;
+    }
+  ASSERT_GT(observed, 2000);
+  EXPECT_DOUBLE_EQ(otsu_threshold(image),
+                   otsu_of_every_pixel(image.gray, image.valid) * image.intensity_scale / 255.0);
+}
+
 // A VLP-16 sweep's square-pixel image repeats most rows; preprocessing copies those rows and
 // counts them once per copy in Otsu's histogram. The images and the threshold must be those of
 // every row computed on its own.
