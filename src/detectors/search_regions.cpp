@@ -148,8 +148,15 @@ std::vector<SearchRegion> sized_search_regions(const cv::Mat& binary,
       }
   merge_overlapping(regions);
   double area = 0;
-  for (const SearchRegion& region : regions) area += region.box.area();
-  if (area > rules.max_coverage * static_cast<double>(size.area())) return whole;
+  int least = std::numeric_limits<int>::max();
+  for (const SearchRegion& region : regions) {
+    area += region.box.area();
+    least = std::min(least, region.least_outer_side_px);
+  }
+  // Searched whole because the regions would cover most of it (a dense grid of close markers),
+  // the image's outlines are still known.
+  if (area > rules.max_coverage * static_cast<double>(size.area()))
+    return {{whole.front().box, regions.empty() ? 0 : least}};
   return regions;
 }
 

@@ -43,8 +43,9 @@ bool is_binary(const cv::Mat& image);
 
 // A search region, and the shorter side (of the least-area turned rectangle) of the smallest
 // boundary in it that no other candidate's box holds (its outermost candidates: markers' borders,
-// not the cells inside them); 0 for the whole image. A detector may look for quads at a coarser
-// scale in a region of large outlines.
+// not the cells inside them); for the whole image, that of all its candidates when they would
+// cover too much of it, else 0. A detector may look for quads at a coarser scale in a region of
+// large outlines.
 struct SearchRegion {
   cv::Rect box;
   int least_outer_side_px = 0;
@@ -63,8 +64,9 @@ std::vector<SearchRegion> sized_search_regions(const cv::Mat& binary,
 std::vector<cv::Rect> search_regions(const cv::Mat& binary, const SearchRegionRules& rules);
 
 // Calls detect_in(part, origin, least_outer_side_px) for each search region of `image` (a copy of
-// its pixels in `crop`, whose pixel (0, 0) is `origin` of the image), or once for the whole image
-// (with 0) when `use` is false or the image is not binary.
+// its pixels in `crop`, whose pixel (0, 0) is `origin` of the image; the image itself when the
+// region is all of it), or once for the whole image with 0 when `use` is false or the image is
+// not binary.
 template <typename DetectIn>
 void detect_in_search_regions(const cv::Mat& image, bool use, const SearchRegionRules& rules,
                               cv::Mat& crop, DetectIn&& detect_in) {
@@ -74,7 +76,7 @@ void detect_in_search_regions(const cv::Mat& image, bool use, const SearchRegion
   }
   for (const SearchRegion& region : sized_search_regions(image, rules)) {
     if (region.box.size() == image.size()) {
-      detect_in(image, cv::Point(0, 0), 0);
+      detect_in(image, cv::Point(0, 0), region.least_outer_side_px);
     } else {
       image(region.box).copyTo(crop);
       detect_in(crop, region.box.tl(), region.least_outer_side_px);

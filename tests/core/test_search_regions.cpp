@@ -137,18 +137,23 @@ TEST(SearchRegions, ABusyImageIsSearchedWhole) {
   for (int y = 0; y < image.rows; y += 5)
     for (int x = 0; x < image.cols; x += 5)
       image(cv::Rect(x, y, 5, 5)).setTo(rng.uniform(0, 2) * 255);
-  const std::vector<cv::Rect> regions = search_regions(image, SearchRegionRules{});
+  const std::vector<detail::SearchRegion> regions =
+      detail::sized_search_regions(image, SearchRegionRules{});
   ASSERT_EQ(regions.size(), 1u);
-  EXPECT_EQ(regions[0], cv::Rect(0, 0, 200, 200));
+  EXPECT_EQ(regions[0].box, cv::Rect(0, 0, 200, 200));
+  EXPECT_EQ(regions[0].least_outer_side_px, 0);  // not traced: no outline known
 }
 
 TEST(SearchRegions, AMarkerFillingTheImageIsSearchedWhole) {
   // Few boundaries, but the one region would cover most of the image: one call does it.
   cv::Mat image(240, 320, CV_8U, cv::Scalar(255));
   draw_tag(image, "apriltag:tag36h11", 7, square(160, 120, 200));
-  const std::vector<cv::Rect> regions = search_regions(image, SearchRegionRules{});
+  const std::vector<detail::SearchRegion> regions =
+      detail::sized_search_regions(image, SearchRegionRules{});
   ASSERT_EQ(regions.size(), 1u);
-  EXPECT_EQ(regions[0], cv::Rect(0, 0, 320, 240));
+  EXPECT_EQ(regions[0].box, cv::Rect(0, 0, 320, 240));
+  // Its outlines were traced: the black square's 160 px side, so libapriltag may halve it.
+  EXPECT_NEAR(regions[0].least_outer_side_px, 160, 2);
   std::vector<Detection> found;
   make_detector("apriltag:tag36h11")->detect(image, found);
   ASSERT_EQ(found.size(), 1u);
