@@ -214,6 +214,38 @@ void sums_down(const cv::Mat& across, int b, int first, int end, cv::Mat& sum) {
   }
 }
 
+// sum[c] = before[c] + scale_in * entering[c] - scale_out * leaving[c].
+IILFM_AVX2_CLONES void slide_row(const float* before, const float* __restrict entering,
+                                 float scale_in, const float* __restrict leaving, float scale_out,
+                                 int cols, float* sum) {
+  for (int c = 0; c < cols; ++c)
+    sum[c] = before[c] + scale_in * entering[c] - scale_out * leaving[c];
+}
+
+// Rows [first, end) of the sums down 2b + 1 rows of `across`, each row r' weighted by r' when
+// `by_row` (so the weight's sums along rows give those of the weighted row numbers): the first
+// row summed whole, each next one from the one above, a row entering and one leaving. Only for
+// integers (every partial sum an integer below 2^24), where that is exact: the same floats as
+// sums_down, in two additions a pixel instead of 2b.
+void sliding_sums_down(const cv::Mat& across, int b, int first, int end, bool by_row,
+                       cv::Mat& sum) {
+  if (first >= end) return;
+  const int rows = across.rows, cols = across.cols;
+  thread_local std::vector<float> zeros;
+  zeros.assign(static_cast<std::size_t>(cols), 0.0f);
+  const auto row_of = [&](int r) {
+    return r >= 0 && r < rows ? across.ptr<float>(r) : zeros.data();
+  };
+  const auto weight_of = [&](int r) { return by_row ? static_cast<float>(r) : 1.0f; };
+  float* top_sum = sum.ptr<float>(first);
+  std::fill(top_sum, top_sum + cols, 0.0f);
+  for (int r = std::max(0, first - b); r <= std::min(rows - 1, first + b); ++r)
+    slide_row(top_sum, row_of(r), weight_of(r), zeros.data(), 0.0f, cols, top_sum);
+  for (int r = first + 1; r < end; ++r)
+    slide_row(sum.ptr<float>(r - 1), row_of(r + b), weight_of(r + b), row_of(r - b - 1),
+              weight_of(r - b - 1), cols, sum.ptr<float>(r));
+}
+
 // Threads take at least this many pixels each (detail::parts_for).
 constexpr std::size_t kMinPixelsPerPart = 65536;
 
@@ -257,11 +289,12 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
   // and row sums are sums of integers below 2^24: exact in float.
   const cv::Mat* inputs[4] = {&image.range, &work.weight, &work.weighted_col, &work.weighted_row};
   cv::Mat* sums[4] = {&work.range_sum, &work.weight_sum, &work.col_sum, &work.row_sum};
-  for (cv::Mat* m : {&work.weight, &work.weighted_col, &work.weighted_row, &work.range_sum,
-                     &work.weight_sum, &work.col_sum, &work.row_sum})
+  for (cv::Mat* m : {&work.weight, &work.weighted_col, &work.range_sum, &work.weight_sum,
+                     &work.col_sum, &work.row_sum})
     m->create(rows, cols, CV_32F);
-  if (direct)  // the sums along rows; cv::boxFilter keeps its own
-    for (cv::Mat& m : work.across) m.create(rows, cols, CV_32F);
+  if (!direct) work.weighted_row.create(rows, cols, CV_32F);
+  if (direct)  // the sums along rows of the range, weight and column; cv::boxFilter keeps its own
+    for (int k = 0; k < 3; ++k) work.across[k].create(rows, cols, CV_32F);
   // Three passes over the rows, each after the whole of the one before: a window reaches b rows
   // into the neighbouring parts. Weights and the sums along rows, then down, then the cosines.
   detail::in_row_parts(rows, parts, [&](int first, int end) {
@@ -269,24 +302,30 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
       const std::uint8_t* __restrict m = image.mask.ptr<std::uint8_t>(r);
       float* __restrict w = work.weight.ptr<float>(r);
       float* __restrict wc = work.weighted_col.ptr<float>(r);
-      float* __restrict wr = work.weighted_row.ptr<float>(r);
       for (int c = 0; c < cols; ++c) {
         w[c] = m[c] ? 1.0f : 0.0f;  // masks hold 0 or 255
         wc[c] = w[c] * static_cast<float>(c);
-        wr[c] = w[c] * static_cast<float>(r);
       }
+      if (direct) continue;  // the direct sums take the row numbers from the weight's sums
+      float* __restrict wr = work.weighted_row.ptr<float>(r);
+      for (int c = 0; c < cols; ++c) wr[c] = w[c] * static_cast<float>(r);
     }
     if (!direct) return;
     thread_local std::vector<float> padded;
-    for (int k = 0; k < 4; ++k) sums_across(*inputs[k], a, first, end, padded, work.across[k]);
+    for (int k = 0; k < 3; ++k) sums_across(*inputs[k], a, first, end, padded, work.across[k]);
   });
   if (!direct)
     for (int k = 0; k < 4; ++k)
       cv::boxFilter(*inputs[k], *sums[k], CV_32F, cv::Size(2 * a + 1, 2 * b + 1), cv::Point(-1, -1),
                     false, cv::BORDER_CONSTANT);
   detail::in_row_parts(rows, parts, [&](int first, int end) {
-    if (direct)
-      for (int k = 0; k < 4; ++k) sums_down(work.across[k], b, first, end, *sums[k]);
+    if (direct) {
+      // Along a row the row number is constant: its sums are the weight's times the row.
+      sums_down(work.across[0], b, first, end, work.range_sum);
+      sliding_sums_down(work.across[1], b, first, end, false, work.weight_sum);
+      sliding_sums_down(work.across[2], b, first, end, false, work.col_sum);
+      sliding_sums_down(work.across[1], b, first, end, true, work.row_sum);
+    }
     to_means(work.weight_sum, work.range_sum, work.col_sum, work.row_sum, first, end);
   });
   const WindowMean mean{work.range_sum, work.weight_sum, work.col_sum, work.row_sum};

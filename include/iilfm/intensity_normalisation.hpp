@@ -41,7 +41,7 @@ struct NormalisationOptions {
 struct NormalisationBuffers {
   cv::Mat weight, range_sum, weight_sum, cos_incidence;
   cv::Mat weighted_col, weighted_row, col_sum, row_sum;  // window centroids
-  cv::Mat across[4];  // window sums along rows (of the range, weight, column and row images)
+  cv::Mat across[3];  // window sums along rows (of the range, weight and column images)
 };
 
 // Writes the normalised intensity (CV_32F, 0 where unobserved) of `image` into `out`. With

@@ -194,6 +194,53 @@ TEST(IntensityNormalisation, ThreadsGiveTheOneThreadImages) {
   }
 }
 
+// The windows' observed-pixel counts and centroids (the sums slid down the rows) against naive
+// sums: exact, for windows summed directly (up to 8 pixels each way) and by cv::boxFilter, in one
+// part and in three (a part's first row summed whole).
+TEST(IntensityNormalisation, WindowCountsAndCentroidsAreExact) {
+  const PlaneScan s =
+      plane_scan(Vec3(std::cos(20 * kDeg), std::sin(20 * kDeg), 0.2), 6, 80, 0.01, 601, 401);
+  cv::Mat mask = s.image.mask.clone();
+  mask(cv::Rect(100, 50, 120, 90)).setTo(0);  // a hole wider than a window
+  ProjectedImage image = s.image;
+  image.mask = mask;
+  const ImageGeometry& g = image.geometry;
+  const int rows = g.height, cols = g.width;
+  for (const double half_window_deg : {0.05, 0.39, 0.5}) {  // 1, 8 and 10 pixels each way
+    NormalisationOptions options;
+    options.mode = IntensityNormalisation::kRangeIncidence;
+    options.normal_half_window_deg = half_window_deg;
+    const int a = static_cast<int>(std::lround(half_window_deg * kDeg / g.res_h));
+    const int b = static_cast<int>(std::lround(half_window_deg * kDeg / g.res_v));
+    for (const int threads : {1, 3}) {
+      NormalisationBuffers work;
+      cv::Mat cosines;
+      estimate_cos_incidence(image, options, work, cosines, threads);
+      int wrong = 0;
+      for (int r = 0; r < rows; r += 3) {
+        for (int c = 0; c < cols; c += 2) {
+          double count = 0, col = 0, row = 0;
+          for (int rr = std::max(0, r - b); rr <= std::min(rows - 1, r + b); ++rr)
+            for (int cc = std::max(0, c - a); cc <= std::min(cols - 1, c + a); ++cc)
+              if (mask.at<std::uint8_t>(rr, cc)) {
+                ++count;
+                col += cc;
+                row += rr;
+              }
+          const float n = work.weight_sum.at<float>(r, c);
+          wrong += n != static_cast<float>(count);
+          if (count == 0) continue;
+          wrong +=
+              work.col_sum.at<float>(r, c) != static_cast<float>(col) / static_cast<float>(count);
+          wrong +=
+              work.row_sum.at<float>(r, c) != static_cast<float>(row) / static_cast<float>(count);
+        }
+      }
+      EXPECT_EQ(wrong, 0) << half_window_deg << " deg, " << threads << " threads";
+    }
+  }
+}
+
 TEST(IntensityNormalisation, RangeNormalisationIsTheSquareLawAboutTheReference) {
   const PlaneScan near = plane_scan(Vec3(1, 0, 0), 2, 100);
   const PlaneScan far = plane_scan(Vec3(1, 0, 0), 12, 100);
