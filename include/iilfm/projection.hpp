@@ -54,7 +54,7 @@ struct ImageGeometry {
   // The image column whose direction is nearest that of column `col`, which may lie one turn
   // off the image in a full-circle image; `col` itself otherwise.
   int wrap_column(int col) const {
-    if (!full_circle() || (col >= 0 && col < width)) return col;
+    if ((col >= 0 && col < width) || !full_circle()) return col;  // the common case first
     const int turn = static_cast<int>(std::lround(columns_per_turn()));
     return col < 0 ? col + turn : col - turn;
   }
