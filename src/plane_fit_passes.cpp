@@ -283,6 +283,18 @@ CoordinateSums coordinate_sums(const FitPoints& p, const Vec3& ref, std::size_t 
   return sums;
 }
 
+IILFM_AVX2_CLONES void ray_points(double cos_el, double sin_el, const double* __restrict cos_az,
+                                  const double* __restrict sin_az, const float* __restrict range,
+                                  std::size_t n, float* __restrict x, float* __restrict y,
+                                  float* __restrict z) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const double along = static_cast<double>(range[k]);
+    x[k] = static_cast<float>(cos_el * cos_az[k] * along);
+    y[k] = static_cast<float>(cos_el * sin_az[k] * along);
+    z[k] = static_cast<float>(sin_el * along);
+  }
+}
+
 void plane_residuals(const FitPoints& p, const Vec3& normal, double d, double* residual) {
   residuals_of(p.x.data(), p.y.data(), p.z.data(), p.size(), normal.x(), normal.y(), normal.z(), d,
                residual);

@@ -55,6 +55,12 @@ struct FitPoints {
   }
 };
 
+// The points at `range[k]` along the rays of elevation (cos_el, sin_el) and azimuth (cos_az[k],
+// sin_az[k]), k < n, as floats: x = cos_el cos_az range, y = cos_el sin_az range, z = sin_el range
+// (each product in that order).
+void ray_points(double cos_el, double sin_el, const double* cos_az, const double* sin_az,
+                const float* range, std::size_t n, float* x, float* y, float* z);
+
 // The points whose label is within [lo, hi], in order, into `to`.
 void keep_labelled(const FitPoints& from, const std::uint8_t* label, std::uint8_t lo,
                    std::uint8_t hi, FitPoints& to);

@@ -252,6 +252,7 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
   // at (every pixel is written to the next free slot, so a part needs a slot per pixel and one
   // spare); the parts' points are then moved together, in the order of one pass.
   const std::size_t width = column.size();
+  const bool inside = c0 >= 0 && c1 < g.width;  // every column of the box is its image column
   constexpr std::size_t kMinPixelsPerPart = 32768;
   const int parts = detail::parts_for(threads, box_rows.size() * width, kMinPixelsPerPart);
   const std::size_t most = box_rows.size() * width + static_cast<std::size_t>(parts);
@@ -282,6 +283,7 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
     std::uint8_t* __restrict l = labelled;
     SinglePoint* __restrict one = singles;
     std::size_t n = base, n_single = base;
+    thread_local detail::Buffer<float> ray_x, ray_y, ray_z;  // this thread's, one row's
     for (std::size_t i = first; i < end; ++i) {
       const int r = rows[i];
       const int v = static_cast<int>(std::lround(frame.v_of[static_cast<std::size_t>(r)]));
@@ -294,7 +296,33 @@ void gather_points(const std::vector<std::vector<Vec2>>& nested, const Projected
       const double cos_el = std::cos(elevation), sin_el = std::sin(elevation);
       // Every pixel is written to the next slot and counted only when labelled and observed, and
       // a pixel of one point also as a single: no branch on the mix of single- and many-point
-      // pixels.
+      // pixels. A box within the image's columns (the common case) reads them directly.
+      if (inside) {
+        // The points along the rays first (a pass that vectorises), then the compaction.
+        ray_x.resize(width);
+        ray_y.resize(width);
+        ray_z.resize(width);
+        detail::ray_points(cos_el, sin_el, cos_of.data(), sin_of.data(), range + c0, width,
+                           ray_x.data(), ray_y.data(), ray_z.data());
+        const float* __restrict rx = ray_x.data();
+        const float* __restrict ry = ray_y.data();
+        const float* __restrict rz = ray_z.data();
+        const std::uint8_t* __restrict seen_at = seen + c0;
+        const std::int32_t* __restrict count_at = count_of + c0;
+        const std::int32_t* __restrict index_at = index + c0;
+        for (std::size_t k = 0; k < width; ++k) {
+          const std::uint8_t label = in[k];
+          const bool taken = (label != 0) & (seen_at[k] != 0);
+          x[n] = rx[k];
+          y[n] = ry[k];
+          z[n] = rz[k];
+          l[n] = label;
+          one[n_single] = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(index_at[k])};
+          n_single += taken & (count_at[k] == 1);
+          n += taken;
+        }
+        continue;
+      }
       for (std::size_t k = 0; k < width; ++k) {
         const std::uint8_t label = in[k];
         const int c = std::max(columns[k], 0);

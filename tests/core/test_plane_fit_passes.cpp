@@ -163,6 +163,32 @@ TEST(PlaneFitPasses, GridPatchesClampOutsidersAndNaNToTheEdge) {
   EXPECT_EQ(patch[4], 0);  // a NaN coordinate makes both dot products NaN: the first patch
 }
 
+TEST(PlaneFitPasses, RayPointsAreThePlainProducts) {
+  // 37 rays (not a multiple of the lanes) across 30 deg of azimuth at 12 deg of elevation.
+  const double elevation = 12 * M_PI / 180, cos_el = std::cos(elevation),
+               sin_el = std::sin(elevation);
+  std::vector<double> cos_az, sin_az;
+  std::vector<float> range;
+  for (int k = 0; k < 37; ++k) {
+    const double azimuth = (-15 + 30.0 * k / 36) * M_PI / 180;
+    cos_az.push_back(std::cos(azimuth));
+    sin_az.push_back(std::sin(azimuth));
+    range.push_back(static_cast<float>(2.5 + 0.37 * k));
+  }
+  std::vector<float> x(37), y(37), z(37);
+  ray_points(cos_el, sin_el, cos_az.data(), sin_az.data(), range.data(), 37, x.data(), y.data(),
+             z.data());
+  for (int k = 0; k < 37; ++k) {
+    const double along = range[k];
+    EXPECT_EQ(x[k], static_cast<float>(cos_el * cos_az[k] * along)) << k;
+    EXPECT_EQ(y[k], static_cast<float>(cos_el * sin_az[k] * along)) << k;
+    EXPECT_EQ(z[k], static_cast<float>(sin_el * along)) << k;
+    // And they lie on their rays, at their range.
+    EXPECT_NEAR(std::hypot(x[k], y[k], z[k]), along, 1e-5 * along) << k;
+    EXPECT_NEAR(std::atan2(z[k], std::hypot(x[k], y[k])), elevation, 1e-6) << k;
+  }
+}
+
 TEST(PlaneFitPasses, ValueOfRankIsWhatNthElementSelects) {
   std::mt19937 rng(3);
   std::exponential_distribution<double> residual(200.0);  // a residual-like long tail
