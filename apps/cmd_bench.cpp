@@ -166,8 +166,8 @@ Runner register_bench_command(CLI::App& app) {
   cmd->add_option("--repeat", args->repeat, "Timed runs per scan")->check(CLI::Range(1, 100000));
   cmd->add_option(
          "--threads", args->threads,
-         "threads for projecting and preprocessing large clouds, for lifting markers and for "
-         "OpenCV's own parallel loops (default 1)")
+         "threads for projecting and preprocessing large clouds, for running several families' "
+         "detectors at once, for lifting markers and for OpenCV's own parallel loops (default 1)")
       ->check(CLI::Range(1, 64));
   cmd->add_flag("--markdown", args->markdown, "Print a Markdown table");
   return [args] {

@@ -453,8 +453,8 @@ Runner register_detect_command(CLI::App& app) {
                 "outlines are large enough to find at half resolution (slower)");
   cmd->add_option(
          "--threads", args->threads,
-         "threads for projecting and preprocessing large clouds, for lifting markers and for "
-         "OpenCV's own parallel loops (default 1)")
+         "threads for projecting and preprocessing large clouds, for running several families' "
+         "detectors at once, for lifting markers and for OpenCV's own parallel loops (default 1)")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--max-hamming", args->max_hamming, "Bits AprilTag may correct (-1: per family)");
   cmd->add_option("--aruco-refine", args->aruco_refine,

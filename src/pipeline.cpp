@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 
 #include "iilfm/duplicates.hpp"
 #include "iilfm/edge_refine.hpp"
@@ -15,6 +16,7 @@
 #include "parallel_parts.hpp"
 #include "ring_decoding.hpp"
 #include "seam_detection.hpp"
+#include "task_threads.hpp"
 
 namespace iilfm {
 
@@ -195,6 +197,7 @@ void set_threads(PipelineOptions& options, int threads) {
   options.projection.threads = threads;
   options.preprocess.threads = threads;
   options.lift_threads = threads;
+  options.detect_threads = threads;
 }
 
 Pipeline::Pipeline(PipelineOptions options)
@@ -357,22 +360,63 @@ std::optional<double> Pipeline::otsu_retry_threshold(const PreprocessedImage& im
   return otsu;
 }
 
+void Pipeline::run_detectors(const DetectorImages& images, std::vector<Detection>& out,
+                             const std::function<void()>& beside) {
+  const std::size_t tasks = detectors_.size() + (beside ? 1 : 0);
+  const int parts = detail::parts_for(options_.detect_threads, tasks, 1);
+  if (parts <= 1) {
+    for (auto& detector : detectors_) detector->detect_images(images, out);
+    if (beside) beside();
+    return;
+  }
+  // Each thread takes the next task not yet run (their costs differ by family), and each
+  // detector's markers go to its own list, joined in the families' order. The helper threads
+  // stay for the next frame.
+  std::vector<std::vector<Detection>> found(detectors_.size());
+  std::vector<std::exception_ptr> failures(tasks);
+  if (!detect_helpers_)
+    detect_helpers_ = std::make_unique<detail::TaskThreads>(options_.detect_threads - 1);
+  detect_helpers_->run(tasks, [&](std::size_t i) {
+    try {
+      if (i < detectors_.size()) {
+        detectors_[i]->detect_images(images, found[i]);
+      } else {
+        beside();
+      }
+    } catch (...) {
+      failures[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+  for (std::vector<Detection>& list : found)
+    for (Detection& d : list) out.push_back(std::move(d));
+}
+
 std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, FrameResult& r) {
+  // The families' cell code books, built once the first image with ring rows arrives (tens of
+  // milliseconds for tag36h11: a Livox user never pays it).
+  const bool rings = r.image.geometry.ring_rows();
+  if (options_.ring_decode && !ring_decoder_ && rings)
+    ring_decoder_ = std::make_unique<detail::RingDecoder>(options_.families,
+                                                          detail::RingDecodeSettings{}, known_ids_);
+  const bool candidates = ring_decoder_ && options_.ring_candidates && rings;
+  // The ring candidates' dark squares are found beside the detectors (on another thread when
+  // there are threads to spare): they need only the binary image.
+  detail::RingDecoder::Quads quads;
+  const auto find_quads = [&] {
+    quads = ring_decoder_->candidate_quads(images.image, r.preprocessed.geometry, r.image);
+  };
   std::vector<Detection> detections;
-  for (auto& detector : detectors_) detector->detect_images(images, detections);
+  run_detectors(images, detections, candidates ? std::function<void()>(find_quads) : nullptr);
   detect_across_seam(images, r.preprocessed.geometry, detectors_, detections);
   // Corners from the detector's image (square pixels) to the projected image's coordinates.
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
   }
-  // The families' cell code books, built once the first image with ring rows arrives (tens of
-  // milliseconds for tag36h11: a Livox user never pays it).
-  if (options_.ring_decode && !ring_decoder_ && r.image.geometry.ring_rows())
-    ring_decoder_ = std::make_unique<detail::RingDecoder>(options_.families,
-                                                          detail::RingDecodeSettings{}, known_ids_);
   keep_measured_detections(detections, r);
-  if (ring_decoder_ && options_.ring_candidates && r.image.geometry.ring_rows()) {
+  if (candidates) {
     // Only where no detector reported a marker: a detection there was already checked.
     const auto covered = [&](const Vec2& centre) {
       return std::any_of(detections.begin(), detections.end(),
@@ -380,7 +424,7 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
     };
     std::vector<Detection> decoded;
     ring_decoder_->decode_candidates(images.image, r.preprocessed.geometry, r.image,
-                                     ring_intensity(r), decoded, covered);
+                                     ring_intensity(r), quads, decoded, covered);
     for (Detection& d : decoded) detections.push_back(std::move(d));
   }
   r.unknown_ids_dropped = options_.only_known_ids ? drop_unknown_ids(known_ids_, detections) : 0;

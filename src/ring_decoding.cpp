@@ -350,19 +350,56 @@ double moved_by(const std::array<Vec2, 4>& a, const std::array<Vec2, 4>& b) {
   return most;
 }
 
+// The narrowest supported family's cells across its black square, the least side a candidate
+// square may have (detector-image pixels) and the detector-image rows a ring spans on average
+// (square pixels stretch the rings apart).
+struct CandidateSizes {
+  int min_cells = 1 << 30;
+  double min_side_px = 0, ring_spacing_px = 0;
+  // As tall as read_quad lets a square be: a ring spacing short of its width.
+  double min_height_px() const { return min_side_px - ring_spacing_px; }
+};
+
+CandidateSizes candidate_sizes(const std::map<std::string, FamilyCodeBooks>& books,
+                               const ImageGeometry& detect_geometry, const ProjectedImage& image) {
+  CandidateSizes sizes;
+  for (const auto& entry : books)
+    sizes.min_cells = std::min(sizes.min_cells, entry.second.all->border_width());
+  sizes.min_side_px = kMinCandidatePixelsPerCell * sizes.min_cells;
+  sizes.ring_spacing_px =
+      static_cast<double>(detect_geometry.height) / std::max(1, image.geometry.height);
+  return sizes;
+}
+
 }  // namespace
+
+RingDecoder::Quads RingDecoder::candidate_quads(const cv::Mat& detect_gray,
+                                                const ImageGeometry& detect_geometry,
+                                                const ProjectedImage& image) const {
+  if (books_.empty() || detect_gray.empty()) return {};
+  const CandidateSizes sizes = candidate_sizes(books_, detect_geometry, image);
+  return dark_quads(detect_gray, sizes.min_side_px, sizes.min_cells, sizes.min_height_px());
+}
 
 void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
                                     const ImageGeometry& detect_geometry,
                                     const ProjectedImage& image, const cv::Mat& intensity,
                                     std::vector<Detection>& out,
                                     const std::function<bool(const Vec2&)>& known) const {
+  decode_candidates(detect_gray, detect_geometry, image, intensity,
+                    candidate_quads(detect_gray, detect_geometry, image), out, known);
+}
+
+void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
+                                    const ImageGeometry& detect_geometry,
+                                    const ProjectedImage& image, const cv::Mat& intensity,
+                                    const Quads& quads, std::vector<Detection>& out,
+                                    const std::function<bool(const Vec2&)>& known) const {
   if (books_.empty() || detect_gray.empty()) return;
-  int min_cells = 1 << 30;
-  for (const auto& entry : books_)
-    min_cells = std::min(min_cells, entry.second.all->border_width());
+  const CandidateSizes sizes = candidate_sizes(books_, detect_geometry, image);
+  const int min_cells = sizes.min_cells;
   const std::size_t before = out.size();
-  const double min_side_px = kMinCandidatePixelsPerCell * min_cells;
+  const double min_side_px = sizes.min_side_px;
   // A full-circle image's columns one turn apart point the same way: a detection across the seam
   // has columns past the last one.
   const double turn = image.geometry.full_circle() ? image.geometry.columns_per_turn() : 0;
@@ -371,9 +408,7 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
     if (known(centre)) return true;
     return turn > 0 && (known(centre + Vec2(turn, 0)) || known(centre - Vec2(turn, 0)));
   };
-  // Detector-image rows a ring spans on average (square pixels stretch the rings apart).
-  const double ring_spacing_px =
-      static_cast<double>(detect_geometry.height) / std::max(1, image.geometry.height);
+  const double ring_spacing_px = sizes.ring_spacing_px;
   // Reads a dark quad whose corners are `corners` in `quad_gray` (the detector image, or the strip
   // across its seam) and `detect_corners` in the detector image's continuous coordinates.
   const auto read_quad = [&](const std::vector<Vec2>& corners, const cv::Mat& quad_gray,
@@ -452,11 +487,9 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       seen |= out[i].family == best.family && out[i].id == best.id;
     if (!seen) out.push_back(std::move(best));
   };
-  // As tall as read_quad lets a square be: a ring spacing short of its width.
-  const double min_height_px = min_side_px - ring_spacing_px;
+  const double min_height_px = sizes.min_height_px();
   std::vector<Vec2> corners, detect_corners;
-  for (const std::array<Vec2, 4>& quad :
-       dark_quads(detect_gray, min_side_px, min_cells, min_height_px)) {
+  for (const std::array<Vec2, 4>& quad : quads) {
     corners.assign(quad.begin(), quad.end());
     push_edges_outward(corners);  // the sides run through the outermost pixel centres
     read_quad(corners, detect_gray, corners);

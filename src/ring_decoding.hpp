@@ -102,6 +102,17 @@ class RingDecoder {
                          const ProjectedImage& image, const cv::Mat& intensity,
                          std::vector<Detection>& out,
                          const std::function<bool(const Vec2&)>& known = {}) const;
+  // The same with the dark squares of `detect_gray` already found by candidate_quads (the
+  // pipeline finds them while the detectors run on another thread).
+  using Quads = std::vector<std::array<Vec2, 4>>;
+  void decode_candidates(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
+                         const ProjectedImage& image, const cv::Mat& intensity, const Quads& quads,
+                         std::vector<Detection>& out,
+                         const std::function<bool(const Vec2&)>& known = {}) const;
+  // The dark squares decode_candidates reads in `detect_gray` (dark_quads, sized for the
+  // narrowest supported family and the rings' spacing in `image`).
+  Quads candidate_quads(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
+                        const ProjectedImage& image) const;
 
   DecodeLimits limits(const std::string& family) const;
 

@@ -10,6 +10,7 @@
 // Pipeline's until its next process() call.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,7 +30,8 @@ namespace iilfm {
 
 namespace detail {
 class RingDecoder;
-}
+class TaskThreads;
+}  // namespace detail
 
 enum class LiftMethod {
   kPlane,  // sub-pixel corner rays meet the robustly fitted marker plane (default)
@@ -84,6 +86,10 @@ struct PipelineOptions {
   // marker's plane fit gathers its points on them (PlaneFitOptions::threads). Same results for
   // any count. `--threads` sets it with the projection's and preprocessing's.
   int lift_threads = 1;
+  // Threads running the families' detectors on a frame, one detector per thread at a time (with
+  // several families: AprilTag and ArUco together take the longer one's time, not the sum). Same
+  // results for any count. `--threads` sets it with the others.
+  int detect_threads = 1;
   // When a preset's fixed threshold finds no marker and Otsu's threshold over the image lies more
   // than a quarter of the fixed one away from it, threshold the frame at Otsu's and detect once
   // more: a cloud whose print and paper both sit above (or below) the preset's value, such as
@@ -183,6 +189,10 @@ class Pipeline {
   // detections in `images` (a binary image of result_.preprocessed), in the projected image's
   // pixels.
   std::vector<Detection> detect_markers(const DetectorImages& images, FrameResult& r);
+  // Appends every family's detections in `images`, in the families' order, and runs `beside`
+  // (when given) too: on up to options_.detect_threads threads, one task per thread at a time.
+  void run_detectors(const DetectorImages& images, std::vector<Detection>& out,
+                     const std::function<void()>& beside);
   // Otsu's threshold when PipelineOptions::retry_with_otsu applies to this frame's fixed one.
   std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
@@ -199,8 +209,9 @@ class Pipeline {
   SphericalProjector projector_;
   std::unique_ptr<WindowProjector> window_projector_;  // made on the first window
   std::vector<std::unique_ptr<MarkerDetector>> detectors_;
-  std::unique_ptr<detail::RingDecoder> ring_decoder_;  // from the first ring-row image
-  KnownIds known_ids_;                                 // known_ids_of(options_)
+  std::unique_ptr<detail::RingDecoder> ring_decoder_;    // from the first ring-row image
+  std::unique_ptr<detail::TaskThreads> detect_helpers_;  // from the first frame that uses them
+  KnownIds known_ids_;                                   // known_ids_of(options_)
   FrameResult result_;
   cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
 };

@@ -4,6 +4,7 @@
 // ThreadSanitizer by scripts/tsan.sh (CI), which also reports any data race it sees.
 #include <gtest/gtest.h>
 
+#include <opencv2/core/utility.hpp>
 #include <optional>
 #include <thread>
 #include <vector>
@@ -210,6 +211,57 @@ TEST(LiftThreads, OneMarkersPointsGatheredOnThreadsGiveTheOneThreadResults) {
   Pipeline three(options);
   for (int run = 0; run < 2; ++run)
     expect_identical(alone, outcome_of(three.process(scan.cloud)), 0);
+}
+
+TEST(DetectThreads, FamiliesDetectedOnThreadsGiveTheOneThreadResults) {
+  // PipelineOptions::detect_threads: the paper's grid (35 tag36h11 and 4 DICT_4X4_50 markers, 20
+  // Mid-40 frames) with three families asked for, each family's detector on one of two or three
+  // threads, and the markers in the families' order whatever thread finished first.
+  // ArUco's detector runs OpenCV's parallel loops, on TBB's pool, which ThreadSanitizer does not
+  // see into: a worker reading an image the calling thread wrote looks like a race to it (one
+  // thread or several). The pipeline's own threads are what this test is about.
+  struct OpenCvOnOneThread {
+    int before = cv::getNumThreads();
+    OpenCvOnOneThread() { cv::setNumThreads(1); }
+    ~OpenCvOnOneThread() { cv::setNumThreads(before); }
+  } opencv_on_one_thread;
+  const sim::SceneSetup setup = sim::named_scene("paper-grid");
+  sim::SimOptions sim_options;
+  sim_options.T_world_lidar = setup.T_world_lidar;
+  sim_options.frames = 20;
+  const sim::SimResult scan =
+      sim::simulate(setup.scene, sim::sensor_model(setup.sensor), sim_options);
+  PipelineOptions options;
+  apply_sensor_preset(find_sensor_preset("mid40"), options);
+  options.families = {"apriltag:tag36h11", "aruco:DICT_4X4_50", "apriltag:tag25h9"};
+  Pipeline one(options);
+  const FrameResult& r = one.process(scan.cloud);
+  const Outcome alone = outcome_of(r);
+  std::size_t aruco = 0;
+  for (const MarkerResult& m : r.markers) aruco += m.detection.family == "aruco:DICT_4X4_50";
+  ASSERT_GE(alone.ids.size(), 30u);
+  ASSERT_GE(aruco, 3u);
+  for (const int threads : {2, 3}) {
+    options.detect_threads = threads;
+    Pipeline split(options);
+    for (int run = 0; run < 2; ++run)
+      expect_identical(alone, outcome_of(split.process(scan.cloud)), threads);
+  }
+}
+
+TEST(DetectThreads, RingCandidatesFoundBesideTheDetectorGiveTheOneThreadResults) {
+  // One family on ring rows: its detector on one thread while the ring candidates' dark squares
+  // are found on another (the OS1-64 sweeps of the "around" room).
+  for (int k = 0; k < 2; ++k) {
+    const PointCloud& cloud = scans().scans[k].cloud;
+    Pipeline one(os1_options());
+    const Outcome alone = outcome_of(one.process(cloud));
+    ASSERT_GE(alone.ids.size(), 3u) << "scan " << k;
+    PipelineOptions options = os1_options();
+    options.detect_threads = 2;
+    Pipeline two(options);
+    for (int run = 0; run < 2; ++run) expect_identical(alone, outcome_of(two.process(cloud)), k);
+  }
 }
 
 }  // namespace
