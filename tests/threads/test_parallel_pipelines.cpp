@@ -6,6 +6,7 @@
 
 #include <opencv2/core/utility.hpp>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -54,6 +55,21 @@ PipelineOptions os1_options() {
   PipelineOptions options;
   apply_sensor_preset(find_sensor_preset("os1-64"), options);
   options.map = scans().map;
+  return options;
+}
+
+// 20 Mid-40 frames of a named scene, and the Mid-40 preset's options.
+sim::SimResult mid40_scan(const std::string& scene) {
+  const sim::SceneSetup setup = sim::named_scene(scene);
+  sim::SimOptions options;
+  options.T_world_lidar = setup.T_world_lidar;
+  options.frames = 20;
+  return sim::simulate(setup.scene, sim::sensor_model(setup.sensor), options);
+}
+
+PipelineOptions mid40_options() {
+  PipelineOptions options;
+  apply_sensor_preset(find_sensor_preset("mid40"), options);
   return options;
 }
 
@@ -195,14 +211,8 @@ TEST(LiftThreads, MarkersLiftedOnThreadsGiveTheOneThreadResults) {
 TEST(LiftThreads, OneMarkersPointsGatheredOnThreadsGiveTheOneThreadResults) {
   // A single marker (the tag wall, 20 Mid-40 frames): its plane fit's points are gathered on the
   // lift's threads (PlaneFitOptions::threads), its 300 x 300 pixel box in two parts.
-  const sim::SceneSetup setup = sim::named_scene("tag-wall");
-  sim::SimOptions sim_options;
-  sim_options.T_world_lidar = setup.T_world_lidar;
-  sim_options.frames = 20;
-  const sim::SimResult scan =
-      sim::simulate(setup.scene, sim::sensor_model(setup.sensor), sim_options);
-  PipelineOptions options;
-  apply_sensor_preset(find_sensor_preset("mid40"), options);
+  const sim::SimResult scan = mid40_scan("tag-wall");
+  PipelineOptions options = mid40_options();
   options.marker_size = 0.172;
   Pipeline one(options);
   const Outcome alone = outcome_of(one.process(scan.cloud));
@@ -225,14 +235,8 @@ TEST(DetectThreads, FamiliesDetectedOnThreadsGiveTheOneThreadResults) {
     OpenCvOnOneThread() { cv::setNumThreads(1); }
     ~OpenCvOnOneThread() { cv::setNumThreads(before); }
   } opencv_on_one_thread;
-  const sim::SceneSetup setup = sim::named_scene("paper-grid");
-  sim::SimOptions sim_options;
-  sim_options.T_world_lidar = setup.T_world_lidar;
-  sim_options.frames = 20;
-  const sim::SimResult scan =
-      sim::simulate(setup.scene, sim::sensor_model(setup.sensor), sim_options);
-  PipelineOptions options;
-  apply_sensor_preset(find_sensor_preset("mid40"), options);
+  const sim::SimResult scan = mid40_scan("paper-grid");
+  PipelineOptions options = mid40_options();
   options.families = {"apriltag:tag36h11", "aruco:DICT_4X4_50", "apriltag:tag25h9"};
   Pipeline one(options);
   const FrameResult& r = one.process(scan.cloud);
