@@ -189,7 +189,7 @@ struct PointsToBin {
 // the point some iterations ahead is prefetched and the misses overlap. Which point lies nearest
 // its pixel centre is as good as random, so that choice is made with masks (masked_choice): as a
 // branch it was mispredicted so often that it took a third of this pass (Mid-40, 60 frames).
-template <bool kNearest, typename Accumulator>
+template <bool kNearest, bool kPrefetch, typename Accumulator>
 std::size_t bin_points(const PointsToBin& points, std::size_t first, std::size_t last,
                        Accumulator* __restrict pixels) {
   const std::int32_t* __restrict pixel = points.pixel;
@@ -205,7 +205,7 @@ std::size_t bin_points(const PointsToBin& points, std::size_t first, std::size_t
   constexpr std::uint32_t kCountMask = Accumulator::kCountMask;
   std::size_t projected = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (i + kAhead < n) {
+    if (kPrefetch && i + kAhead < n) {
       const std::int32_t ahead = pixel[i + kAhead];
       __builtin_prefetch(pixels + (in_part(ahead) ? ahead : lo), 1);
     }
@@ -402,6 +402,10 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   pixels_.resize(total);
   pixels_clear_ = false;
   const bool nearest = options_.collision == CollisionPolicy::kNearest;
+  // Accumulators that fit in L2 (a spinning LiDAR's ring rows: 0.5 MB for a VLP-16) stay there
+  // between points; prefetching them is only overhead.
+  constexpr std::size_t kPrefetchAboveBytes = std::size_t{1} << 20;
+  const bool prefetch = total * sizeof(PixelAccumulator) > kPrefetchAboveBytes;
   // With threads, each takes a range of pixels and reads every point, binning those that fall in
   // its range: a pixel's points are still added in the cloud's order, by one thread.
   const int pixel_parts =
@@ -410,8 +414,11 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   in_parts(pixel_parts, [&](int k, int parts) {
     const auto [first, last] = part_range(total, k, parts);
     const PointsToBin points{pixel_.data(), range_.data(), offset_.data(), cloud.intensity, n};
-    projected_in[k] = nearest ? bin_points<true>(points, first, last, pixels_.data())
-                              : bin_points<false>(points, first, last, pixels_.data());
+    projected_in[k] =
+        nearest ? (prefetch ? bin_points<true, true>(points, first, last, pixels_.data())
+                            : bin_points<true, false>(points, first, last, pixels_.data()))
+                : (prefetch ? bin_points<false, true>(points, first, last, pixels_.data())
+                            : bin_points<false, false>(points, first, last, pixels_.data()));
   });
   std::size_t projected = 0;
   for (int k = 0; k < pixel_parts; ++k) projected += projected_in[k];
