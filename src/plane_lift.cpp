@@ -517,20 +517,22 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   // A printed sheet is flush with what it hangs on: when the surround is coplanar with the marker,
   // its points pin the normal down far better (more points, longer lever). Largest ring first;
   // surround k's ring holds the labels k + 1 up to the marker's, exclusive.
-  thread_local detail::Buffer<double> offsets_all, offsets_from_ring;
-  thread_local std::vector<double> offsets;
+  thread_local detail::Buffer<double> offsets_all, offsets_from_ring, offsets;
   offsets_all.resize(points.size());
   detail::plane_residuals(points, plane.normal, plane.d, offsets_all.data());
   for (std::size_t k = 0; k < scales.size(); ++k) {
     const auto first_label = static_cast<std::uint8_t>(k + 1);
     const auto last_label = static_cast<std::uint8_t>(marker_label - 1);
-    offsets.clear();
-    std::size_t coplanar = 0;
+    // The ring's offsets, compacted without a branch (every offset written, kept when in it).
+    offsets.resize(points.size());
+    std::size_t coplanar = 0, in_ring = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
-      if (label[i] < first_label || label[i] > last_label) continue;
-      coplanar += offsets_all[i] <= band;
-      offsets.push_back(offsets_all[i]);
+      const bool in = (label[i] >= first_label) & (label[i] <= last_label);
+      offsets[in_ring] = offsets_all[i];
+      coplanar += in & (offsets_all[i] <= band);
+      in_ring += in;
     }
+    offsets.resize(in_ring);
     if (offsets.size() < marker.size() / 2) continue;
     // The ring's points within `ring_band` of the marker's plane (coplanar) or of the ring's own
     // (ring_holds_the_marker) join the marker's for the wide fit.
