@@ -189,18 +189,20 @@ IILFM_AVX2_CLONES void add_terms(const float* const* terms, int count, int cols,
 // ones go to cv::boxFilter, whose running sums cost the same at any size.
 constexpr int kDirectMax = 8;
 
-// Rows [first, end) of the sums along rows over 2a + 1 columns, into `across`; `padded` is the
-// calling thread's row with zero borders.
-void sums_across(const cv::Mat& in, int a, int first, int end, std::vector<float>& padded,
-                 cv::Mat& across) {
-  const int cols = in.cols;
-  padded.assign(static_cast<std::size_t>(cols + 2 * a), 0.0f);
+// One row's sums along it over 2a + 1 columns into `across`, from `padded`: the row with a zeros
+// either side.
+void sum_across(const std::vector<float>& padded, int a, int cols, float* across) {
   const float* terms[2 * kDirectMax + 1];
   for (int k = 0; k <= 2 * a; ++k) terms[k] = padded.data() + k;
-  for (int r = first; r < end; ++r) {
-    const float* row = in.ptr<float>(r);
-    std::copy(row, row + cols, padded.data() + a);
-    add_terms(terms, 2 * a + 1, cols, across.ptr<float>(r));
+  add_terms(terms, 2 * a + 1, cols, across);
+}
+
+// A row's observed-pixel weights (1 or 0) and the weights times their column numbers.
+IILFM_AVX2_CLONES void weights_of_row(const std::uint8_t* __restrict mask, int cols,
+                                      float* __restrict weight, float* __restrict col) {
+  for (int c = 0; c < cols; ++c) {
+    weight[c] = mask[c] ? 1.0f : 0.0f;  // masks hold 0 or 255
+    col[c] = weight[c] * static_cast<float>(c);
   }
 }
 
@@ -289,30 +291,42 @@ void estimate_cos_incidence(const ProjectedImage& image, const NormalisationOpti
   // and row sums are sums of integers below 2^24: exact in float.
   const cv::Mat* inputs[4] = {&image.range, &work.weight, &work.weighted_col, &work.weighted_row};
   cv::Mat* sums[4] = {&work.range_sum, &work.weight_sum, &work.col_sum, &work.row_sum};
-  for (cv::Mat* m : {&work.weight, &work.weighted_col, &work.range_sum, &work.weight_sum,
-                     &work.col_sum, &work.row_sum})
+  for (cv::Mat* m : {&work.range_sum, &work.weight_sum, &work.col_sum, &work.row_sum})
     m->create(rows, cols, CV_32F);
-  if (!direct) work.weighted_row.create(rows, cols, CV_32F);
-  if (direct)  // the sums along rows of the range, weight and column; cv::boxFilter keeps its own
+  if (direct) {  // the sums along rows of the range, weight and column; cv::boxFilter keeps its own
     for (int k = 0; k < 3; ++k) work.across[k].create(rows, cols, CV_32F);
+  } else {  // whole images of the weights for cv::boxFilter
+    for (cv::Mat* m : {&work.weight, &work.weighted_col, &work.weighted_row})
+      m->create(rows, cols, CV_32F);
+  }
   // Three passes over the rows, each after the whole of the one before: a window reaches b rows
   // into the neighbouring parts. Weights and the sums along rows, then down, then the cosines.
   detail::in_row_parts(rows, parts, [&](int first, int end) {
-    for (int r = first; r < end; ++r) {
-      const std::uint8_t* __restrict m = image.mask.ptr<std::uint8_t>(r);
-      float* __restrict w = work.weight.ptr<float>(r);
-      float* __restrict wc = work.weighted_col.ptr<float>(r);
-      for (int c = 0; c < cols; ++c) {
-        w[c] = m[c] ? 1.0f : 0.0f;  // masks hold 0 or 255
-        wc[c] = w[c] * static_cast<float>(c);
+    if (!direct) {
+      for (int r = first; r < end; ++r) {
+        const std::uint8_t* m = image.mask.ptr<std::uint8_t>(r);
+        float* w = work.weight.ptr<float>(r);
+        weights_of_row(m, cols, w, work.weighted_col.ptr<float>(r));
+        float* __restrict wr = work.weighted_row.ptr<float>(r);
+        for (int c = 0; c < cols; ++c) wr[c] = w[c] * static_cast<float>(r);
       }
-      if (direct) continue;  // the direct sums take the row numbers from the weight's sums
-      float* __restrict wr = work.weighted_row.ptr<float>(r);
-      for (int c = 0; c < cols; ++c) wr[c] = w[c] * static_cast<float>(r);
+      return;
     }
-    if (!direct) return;
-    thread_local std::vector<float> padded;
-    for (int k = 0; k < 3; ++k) sums_across(*inputs[k], a, first, end, padded, work.across[k]);
+    // Each row's range, weights and column numbers go straight into rows padded with zeros (no
+    // whole images of the weights), and are summed along the row from there. The row numbers'
+    // sums are the weight's times the row (sliding_sums_down).
+    thread_local std::vector<float> range_row, weight_row, col_row;
+    for (std::vector<float>* row : {&range_row, &weight_row, &col_row})
+      row->assign(static_cast<std::size_t>(cols + 2 * a), 0.0f);
+    for (int r = first; r < end; ++r) {
+      const float* range = image.range.ptr<float>(r);
+      std::copy(range, range + cols, range_row.data() + a);
+      weights_of_row(image.mask.ptr<std::uint8_t>(r), cols, weight_row.data() + a,
+                     col_row.data() + a);
+      sum_across(range_row, a, cols, work.across[0].ptr<float>(r));
+      sum_across(weight_row, a, cols, work.across[1].ptr<float>(r));
+      sum_across(col_row, a, cols, work.across[2].ptr<float>(r));
+    }
   });
   if (!direct)
     for (int k = 0; k < 4; ++k)
