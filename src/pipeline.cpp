@@ -374,8 +374,10 @@ void Pipeline::run_detectors(const DetectorImages& images, std::vector<Detection
   // stay for the next frame.
   std::vector<std::vector<Detection>> found(detectors_.size());
   std::vector<std::exception_ptr> failures(tasks);
-  if (!detect_helpers_)
-    detect_helpers_ = std::make_unique<detail::TaskThreads>(options_.detect_threads - 1);
+  if (!detect_helpers_) {  // as many as a frame's tasks can use: the detectors and one beside
+    const int most = detail::parts_for(options_.detect_threads, detectors_.size() + 1, 1);
+    detect_helpers_ = std::make_unique<detail::TaskThreads>(most - 1);
+  }
   detect_helpers_->run(tasks, [&](std::size_t i) {
     try {
       if (i < detectors_.size()) {
