@@ -1,61 +1,98 @@
 #include "task_threads.hpp"
 
+#include <unistd.h>
+
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
 #include <system_error>
+#include <thread>
+#include <vector>
 
 namespace iilfm::detail {
+
+// What the helpers share with the caller, behind one pointer so that a forked child can leave the
+// parent's (its lock may have been held by a helper at the fork) and make its own.
+struct TaskThreads::State {
+  std::mutex mutex;
+  std::condition_variable wake, done;
+  const std::function<void(std::size_t)>* task = nullptr;
+  std::size_t count = 0, next = 0, finished = 0;
+  std::uint64_t generation = 0;  // one more for every run
+  bool stop = false;
+  std::vector<std::thread> threads;
+
+  // Runs the tasks left (the lock held on entry and on return).
+  void take_tasks(std::unique_lock<std::mutex>& lock) {
+    while (next < count) {
+      const std::size_t i = next++;
+      const std::function<void(std::size_t)>& run_task = *task;
+      lock.unlock();
+      run_task(i);
+      lock.lock();
+      if (++finished == count) done.notify_all();
+    }
+  }
+
+  void work() {
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex);
+    for (;;) {
+      wake.wait(lock, [&] { return stop || generation != seen; });
+      if (stop) return;
+      seen = generation;
+      take_tasks(lock);
+    }
+  }
+};
 
 TaskThreads::TaskThreads(int helpers) : helpers_(helpers > 0 ? helpers : 0) {}
 
 TaskThreads::~TaskThreads() {
+  if (!state_) return;
+  let_go_if_forked();
+  if (!state_) return;
   {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->stop = true;
   }
-  wake_.notify_all();
-  for (std::thread& t : threads_) t.join();
+  state_->wake.notify_all();
+  for (std::thread& t : state_->threads) t.join();
 }
 
-void TaskThreads::take_tasks(std::unique_lock<std::mutex>& lock) {
-  while (next_ < count_) {
-    const std::size_t i = next_++;
-    const std::function<void(std::size_t)>& task = *task_;
-    lock.unlock();
-    task(i);
-    lock.lock();
-    if (++finished_ == count_) done_.notify_all();
-  }
+void TaskThreads::let_go_if_forked() {
+  if (!state_ || owner_ == getpid()) return;
+  // A forked child: the helpers were not copied, and their handles name nothing here (glibc may
+  // even hand their stacks to the child's new threads), so neither joined nor detached: the state,
+  // threads and lock, is left as it is (leaked), and a new one made on the next run.
+  static_cast<void>(state_.release());
 }
 
-void TaskThreads::work() {
-  std::uint64_t seen = 0;
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
-    if (stop_) return;
-    seen = generation_;
-    take_tasks(lock);
+void TaskThreads::start_helpers() {
+  state_ = std::make_unique<State>();
+  owner_ = getpid();
+  State* const state = state_.get();
+  try {
+    for (int k = 0; k < helpers_; ++k) state->threads.emplace_back([state] { state->work(); });
+  } catch (const std::system_error&) {  // fewer helpers (or none): the caller does the rest
   }
 }
 
 void TaskThreads::run(std::size_t count, const std::function<void(std::size_t)>& task) {
   if (count == 0) return;
-  if (threads_.empty() && helpers_ > 0) {
-    try {
-      for (int k = 0; k < helpers_; ++k) threads_.emplace_back([this] { work(); });
-    } catch (const std::system_error&) {  // fewer helpers (or none): the caller does the rest
-    }
-    helpers_ = static_cast<int>(threads_.size());
-  }
-  std::unique_lock<std::mutex> lock(mutex_);
-  task_ = &task;
-  count_ = count;
-  next_ = 0;
-  finished_ = 0;
-  ++generation_;
-  if (!threads_.empty()) wake_.notify_all();
-  take_tasks(lock);
-  done_.wait(lock, [&] { return finished_ == count_; });
-  task_ = nullptr;
+  let_go_if_forked();
+  if (!state_) start_helpers();
+  State& s = *state_;
+  std::unique_lock<std::mutex> lock(s.mutex);
+  s.task = &task;
+  s.count = count;
+  s.next = 0;
+  s.finished = 0;
+  ++s.generation;
+  if (!s.threads.empty()) s.wake.notify_all();
+  s.take_tasks(lock);
+  s.done.wait(lock, [&] { return s.finished == s.count; });
+  s.task = nullptr;
 }
 
 }  // namespace iilfm::detail

@@ -3,13 +3,11 @@
 // thread-local scratch of contour tracing, reused from the frame before).
 #pragma once
 
-#include <condition_variable>
+#include <sys/types.h>
+
 #include <cstddef>
-#include <cstdint>
 #include <functional>
-#include <mutex>
-#include <thread>
-#include <vector>
+#include <memory>
 
 namespace iilfm::detail {
 
@@ -23,22 +21,20 @@ class TaskThreads {
 
   // Calls task(i) once for every i < count, on the caller's thread and the helpers, each taking
   // the next task not yet taken; returns when all are done. `task` must not throw. One run at a
-  // time.
+  // time. In a process forked after the helpers started (Python's multiprocessing), which holds
+  // none of them, new ones are started.
   void run(std::size_t count, const std::function<void(std::size_t)>& task);
 
  private:
-  void work();
-  // Runs the tasks left (the lock held on entry and on return).
-  void take_tasks(std::unique_lock<std::mutex>& lock);
+  struct State;
+  // In a forked child, leaves the parent's helpers and their state alone (the threads do not exist
+  // there; their lock may be held).
+  void start_helpers();
+  void let_go_if_forked();
 
   int helpers_;
-  std::mutex mutex_;
-  std::condition_variable wake_, done_;
-  const std::function<void(std::size_t)>* task_ = nullptr;
-  std::size_t count_ = 0, next_ = 0, finished_ = 0;
-  std::uint64_t generation_ = 0;  // one more for every run
-  bool stop_ = false;
-  std::vector<std::thread> threads_;
+  pid_t owner_ = 0;  // the process that started the helpers
+  std::unique_ptr<State> state_;
 };
 
 }  // namespace iilfm::detail

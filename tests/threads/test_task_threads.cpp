@@ -1,9 +1,12 @@
 // detail::TaskThreads (src/task_threads.hpp): every task of a run exactly once, run after run on
 // the same threads, and the run returns only when all are done. Under ThreadSanitizer in CI.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
+#include <csignal>
 #include <set>
 #include <thread>
 #include <vector>
@@ -43,6 +46,48 @@ TEST(TaskThreads, TasksShareTheHelpersAndTheCallersThread) {
     ids.insert(id_of.begin(), id_of.end());
     EXPECT_EQ(ids.size(), 2u) << "run " << run;
   }
+}
+
+// Exit status of `child`, or -1 when it has not ended within ten seconds (then it is killed).
+int status_within_ten_seconds(pid_t child) {
+  for (int k = 0; k < 1000; ++k) {
+    int status = 0;
+    if (waitpid(child, &status, WNOHANG) == child)
+      return WIFEXITED(status) ? WEXITSTATUS(status) : -2;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(child, SIGKILL);
+  waitpid(child, nullptr, 0);
+  return -1;
+}
+
+TEST(TaskThreads, AForkedChildRunsTasksAndLetsGoOfItsParentsHelpers) {
+#if defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "ThreadSanitizer stops a child that starts threads after a threaded fork";
+#else
+  // Python's multiprocessing forks a process whose pipeline may have started its helpers; the
+  // child has none of them. Its runs must neither wait for them nor its destructor join them.
+  auto* used = new TaskThreads(1);  // NOLINT: deleted in the child, left to the parent's exit
+  auto* idle = new TaskThreads(1);  // NOLINT
+  std::vector<int> times(4, 0);
+  used->run(4, [&](std::size_t i) { ++times[i]; });
+  idle->run(4, [&](std::size_t i) { ++times[i]; });
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::vector<int> seen(8, 0);
+    for (int run = 0; run < 3; ++run) used->run(8, [&](std::size_t i) { ++seen[i]; });
+    bool ok = true;
+    for (int n : seen) ok &= n == 3;
+    delete used;  // its own helpers, started in the child, joined
+    delete idle;  // the parent's, let go of
+    _exit(ok ? 0 : 1);
+  }
+  EXPECT_EQ(status_within_ten_seconds(child), 0);
+  for (int n : times) EXPECT_EQ(n, 2);
+  delete used;
+  delete idle;
+#endif
 }
 
 }  // namespace
