@@ -87,8 +87,9 @@ struct PipelineOptions {
   // any count. `--threads` sets it with the projection's and preprocessing's.
   int lift_threads = 1;
   // Threads running the families' detectors on a frame, one detector per thread at a time (with
-  // several families: AprilTag and ArUco together take the longer one's time, not the sum). Same
-  // results for any count. `--threads` sets it with the others.
+  // several families: AprilTag and ArUco together take the longer one's time, not the sum), and
+  // on ring rows the ring candidates' dark squares beside them. Same results for any count.
+  // `--threads` sets it with the others.
   int detect_threads = 1;
   // When a preset's fixed threshold finds no marker and Otsu's threshold over the image lies more
   // than a quarter of the fixed one away from it, threshold the frame at Otsu's and detect once
