@@ -384,15 +384,6 @@ RingDecoder::Quads RingDecoder::candidate_quads(const cv::Mat& detect_gray,
 void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
                                     const ImageGeometry& detect_geometry,
                                     const ProjectedImage& image, const cv::Mat& intensity,
-                                    std::vector<Detection>& out,
-                                    const std::function<bool(const Vec2&)>& known) const {
-  decode_candidates(detect_gray, detect_geometry, image, intensity,
-                    candidate_quads(detect_gray, detect_geometry, image), out, known);
-}
-
-void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
-                                    const ImageGeometry& detect_geometry,
-                                    const ProjectedImage& image, const cv::Mat& intensity,
                                     const Quads& quads, std::vector<Detection>& out,
                                     const std::function<bool(const Vec2&)>& known) const {
   if (books_.empty() || detect_gray.empty()) return;

@@ -92,27 +92,21 @@ class RingDecoder {
   // detection gets the decoded id and its corners reordered.
   RingVerdict verify(Detection& d, const ProjectedImage& image, const cv::Mat& intensity) const;
 
-  // Decodes square candidates that no detector decoded: dark blobs with four straight sides in
-  // `detect_gray` (the detectors' binary image, geometry `detect_geometry`), read from the ring
-  // samples for every supported family. Appends detections in projected-image
-  // coordinates (decision_margin = the decoding's chance-match bits, less log2 of the families
-  // whose fixed cells fit the square: each is one more try). Quads whose centre (projected-image
-  // coordinates) `known` says a detection already covers are not read.
-  void decode_candidates(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
-                         const ProjectedImage& image, const cv::Mat& intensity,
-                         std::vector<Detection>& out,
-                         const std::function<bool(const Vec2&)>& known = {}) const;
-  // The same with the dark squares of `detect_gray` already found by candidate_quads (the
-  // pipeline finds them while the detectors run on another thread).
   using Quads = std::vector<std::array<Vec2, 4>>;
+  // The dark squares decode_candidates reads in `detect_gray` (the detectors' binary image,
+  // geometry `detect_geometry`): dark_quads, sized for the narrowest supported family and the
+  // rings' spacing in `image`. The pipeline finds them while the detectors run.
+  Quads candidate_quads(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
+                        const ProjectedImage& image) const;
+  // Decodes the square candidates `quads` (candidate_quads of `detect_gray`) that no detector
+  // decoded, read from the ring samples for every supported family. Appends detections in
+  // projected-image coordinates (decision_margin = the decoding's chance-match bits, less log2 of
+  // the families whose fixed cells fit the square: each is one more try). Quads whose centre
+  // (projected-image coordinates) `known` says a detection already covers are not read.
   void decode_candidates(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
                          const ProjectedImage& image, const cv::Mat& intensity, const Quads& quads,
                          std::vector<Detection>& out,
                          const std::function<bool(const Vec2&)>& known = {}) const;
-  // The dark squares decode_candidates reads in `detect_gray` (dark_quads, sized for the
-  // narrowest supported family and the rings' spacing in `image`).
-  Quads candidate_quads(const cv::Mat& detect_gray, const ImageGeometry& detect_geometry,
-                        const ProjectedImage& image) const;
 
   DecodeLimits limits(const std::string& family) const;
 
