@@ -180,8 +180,8 @@ DecodeLimits RingDecoder::limits(const std::string& family) const {
 }
 
 RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>& corners_px,
-                           const ProjectedImage& image, const cv::Mat& intensity,
-                           bool candidate) const {
+                           const ProjectedImage& image, const cv::Mat& intensity, bool candidate,
+                           const RingRead* shifts_of) const {
   RingRead out;
   const auto it = books_.find(family);
   if (it == books_.end()) return out;
@@ -198,16 +198,26 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
   const int outward = static_cast<int>(std::lround(grow / step));
   MarkerSamples::Scratch scratch;
+  // A re-reading's one placing: the top and bottom shifts of `shifts_of`, in steps.
+  std::optional<std::pair<int, int>> kept;
+  if (candidate && shifts_of)
+    kept = {
+        std::clamp(static_cast<int>(std::lround(shifts_of->shift_top / step)), -outward, inward),
+        std::clamp(static_cast<int>(std::lround(shifts_of->shift_bottom / step)), -inward,
+                   outward)};
   // The search reads only the samples that can fall in a fixed cell at one of its placings (the
   // same agreements from a fraction of the samples). A detection's placings move the square as a
   // whole; a candidate's move its top side by -outward..inward steps and its bottom side by
   // -inward..outward.
   const MarkerSamples searched =
-      candidate ? samples.fixed_cell_samples({-outward * step, inward * step},
-                                             {-inward * step, outward * step}, book,
-                                             read_options.central_fraction)
-                : samples.fixed_cell_samples(-outward * step, inward * step, book,
-                                             read_options.central_fraction);
+      kept        ? samples.fixed_cell_samples({kept->first * step, kept->first * step},
+                                               {kept->second * step, kept->second * step}, book,
+                                               read_options.central_fraction)
+      : candidate ? samples.fixed_cell_samples({-outward * step, inward * step},
+                                               {-inward * step, outward * step}, book,
+                                               read_options.central_fraction)
+                  : samples.fixed_cell_samples(-outward * step, inward * step, book,
+                                               read_options.central_fraction);
   const auto agreement_at = [&](double t, double b) {
     return searched.fixed_agreement(t, b, book, read_options, scratch);
   };
@@ -220,7 +230,9 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   };
   // The coarse look's agreements, kept for the finer search (NaN: not read yet).
   std::vector<double> known(candidate ? wanted.size() : 0, std::nan(""));
-  if (candidate) {
+  if (kept) {
+    wanted[index(kept->first, kept->second)] = 1;
+  } else if (candidate) {
     // Most candidates are clutter: a coarse look (every third placing) must already find the
     // fixed cells mostly right before the finer search, which then looks only around the coarse
     // placings that read nearly as well as the best (agreement changes by a few fixed cells from
@@ -343,6 +355,23 @@ constexpr double kMinCandidatePixelsPerCell = 1.25;
 // How far measured sides must move a weakly read candidate's for a second reading (pixels).
 constexpr double kMinSideMovePx = 0.25;
 
+// `corners` with the left side moved `left` and the right side `right` pixels along the rows (the
+// sides nearer the vertical; their ends move with them).
+std::array<Vec2, 4> sides_moved(const std::array<Vec2, 4>& corners, double left, double right) {
+  double centre = 0;
+  for (const Vec2& p : corners) centre += 0.25 * p.x();
+  std::array<Vec2, 4> out = corners;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const Vec2& a = corners[k];
+    const Vec2& b = corners[(k + 1) % 4];
+    if (!(std::abs(b.y() - a.y()) > std::abs(b.x() - a.x()))) continue;  // the top or bottom
+    const double by = 0.5 * (a.x() + b.x()) > centre ? right : left;
+    out[k].x() += by;
+    out[(k + 1) % 4].x() += by;
+  }
+  return out;
+}
+
 // The largest distance between corresponding corners.
 double moved_by(const std::array<Vec2, 4>& a, const std::array<Vec2, 4>& b) {
   double most = 0;
@@ -379,6 +408,51 @@ RingDecoder::Quads RingDecoder::candidate_quads(const cv::Mat& detect_gray,
   if (books_.empty() || detect_gray.empty()) return {};
   const CandidateSizes sizes = candidate_sizes(books_, detect_geometry, image);
   return dark_quads(detect_gray, sizes.min_side_px, sizes.min_cells, sizes.min_height_px());
+}
+
+void RingDecoder::read_weak_candidate_again(const std::string& family,
+                                            const std::array<Vec2, 4>& corners_px,
+                                            const ProjectedImage& image, const cv::Mat& intensity,
+                                            RingRead& first) const {
+  const RingRead original = first;
+  int readings = 1;
+  const auto read_again = [&](const std::array<Vec2, 4>& corners, double cost_bits,
+                              const RingRead* shifts_of) {
+    RingRead again = read(family, corners, image, intensity, true, shifts_of);
+    again.decoded.security_bits -= cost_bits;
+    if (again.read && again.decoded.accepted &&
+        again.decoded.security_bits > first.decoded.security_bits)
+      first = std::move(again);
+  };
+  // First with the left and right sides where the rings cross the marker's mid level, when that
+  // moves one of them by a quarter pixel or more (reading much the same placings again cost the
+  // harness's cluttered scenes half as much time again). A second reading is a second chance to
+  // match: it pays one bit.
+  const auto measured = measured_side_columns(corners_px, image, intensity, original.cells.black,
+                                              original.cells.white);
+  if (measured && moved_by(*measured, corners_px) >= kMinSideMovePx) {
+    ++readings;
+    read_again(*measured, 1, nullptr);
+  }
+  // Only a first reading that already says more than chance is worth moving the sides for: in the
+  // false-positive harness's cluttered scenes that kept 238 of 242 of the finds for a third of
+  // the readings.
+  const double step = settings_.candidate_side_step_px;
+  if (!(step > 0) || original.decoded.security_bits < settings_.candidate_side_min_bits ||
+      first.decoded.security_bits >= settings_.candidate_min_security_bits)
+    return;
+  // Then with each side moved a step either way, at the first reading's top and bottom shifts:
+  // these readings differ in which columns fall in which cell, not in where the rows lie (and
+  // searching the shifts again for each made the false-positive harness 1.3 times slower than
+  // this, for a few more finds). Each is one more chance to match: the best pays log2 of every
+  // reading made, so the chance that any of them matches by chance stays that of one.
+  std::vector<std::array<Vec2, 4>> moved;
+  for (int left = -1; left <= 1; ++left)
+    for (int right = -1; right <= 1; ++right)
+      if (left != 0 || right != 0)
+        moved.push_back(sides_moved(corners_px, left * step, right * step));
+  const double cost_bits = std::log2(static_cast<double>(readings + moved.size()));
+  for (const std::array<Vec2, 4>& corners : moved) read_again(corners, cost_bits, &original);
 }
 
 void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
@@ -430,22 +504,8 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       if (quiet_zone_fraction(quad_gray, corners, cells) < kMinCandidateMargin) continue;
       RingRead r = read(family, projected, image, intensity, true);
       if (r.read && r.cells.levels_ok &&
-          r.decoded.security_bits < settings_.candidate_min_security_bits) {
-        // Read too weakly where the binary image put the sides: read again with the left and
-        // right sides where the rings cross the marker's mid level, when that moves one of them
-        // by a quarter pixel or more (reading much the same placings again cost the harness's
-        // cluttered scenes half as much time again). A second reading is a second chance to
-        // match: it pays one bit.
-        const auto measured =
-            measured_side_columns(projected, image, intensity, r.cells.black, r.cells.white);
-        if (measured && moved_by(*measured, projected) >= kMinSideMovePx) {
-          RingRead second = read(family, *measured, image, intensity, true);
-          second.decoded.security_bits -= 1;
-          if (second.read && second.decoded.accepted &&
-              second.decoded.security_bits > r.decoded.security_bits)
-            r = std::move(second);
-        }
-      }
+          r.decoded.security_bits < settings_.candidate_min_security_bits)
+        read_weak_candidate_again(family, projected, image, intensity, r);
       if (r.read) reads.emplace_back(&family, std::move(r));
     }
     // Every family whose fixed cells fit the square is one more try at a chance match: a

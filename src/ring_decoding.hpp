@@ -34,6 +34,13 @@ struct RingDecodeSettings {
   double candidate_central_fraction = 0.9;
   // Share of fixed cells read right somewhere on a coarse grid of placings before the full search.
   double candidate_min_coarse_agreement = 0.8;
+  // A candidate still read too weakly after its measured sides is read again with its left and
+  // right sides each moved by -1, 0 or +1 times this many pixels (eight more readings, which pay
+  // log2 of all readings made): at 1.3-1.5 columns a cell, which columns fall in which cell flips
+  // within a fraction of a pixel. 0: not done.
+  double candidate_side_step_px = 0.5;
+  // ... when the first reading has at least this many chance-match bits.
+  double candidate_side_min_bits = 0;
   int min_distance_margin = 2;
   // log2 of the chance that a random reading decodes (decode_cells): checking a detection.
   double min_security_bits = 10;
@@ -84,9 +91,11 @@ class RingDecoder {
 
   // Reads and decodes the square at `corners_px` (projected-image coordinates, any corner first).
   // `candidate`: a quad no detector decoded (settings' candidate_* apply).
+  // `shifts_of` (a candidate's): keep that reading's top and bottom shifts instead of searching
+  // them (the same square read again with its left and right sides moved).
   RingRead read(const std::string& family, const std::array<Vec2, 4>& corners_px,
-                const ProjectedImage& image, const cv::Mat& intensity,
-                bool candidate = false) const;
+                const ProjectedImage& image, const cv::Mat& intensity, bool candidate = false,
+                const RingRead* shifts_of = nullptr) const;
 
   // Checks `d` (corners in projected-image coordinates) against the ring samples; a corrected
   // detection gets the decoded id and its corners reordered.
@@ -111,6 +120,13 @@ class RingDecoder {
   DecodeLimits limits(const std::string& family) const;
 
  private:
+  // A candidate `first` read at `corners_px` too weakly: read again with the sides measured, then
+  // moved (settings' candidate_side_step_px); `first` becomes the best reading, its chance-match
+  // bits less what the extra tries cost.
+  void read_weak_candidate_again(const std::string& family, const std::array<Vec2, 4>& corners_px,
+                                 const ProjectedImage& image, const cv::Mat& intensity,
+                                 RingRead& first) const;
+
   RingDecodeSettings settings_;
   std::map<std::string, FamilyCodeBooks> books_;
 };

@@ -11,6 +11,7 @@
 #include <random>
 #include <utility>
 
+#include "../../src/ring_decoding.hpp"
 #include "iilfm/eval/case.hpp"
 #include "iilfm/eval/detection_range.hpp"
 #include "iilfm/option_names.hpp"
@@ -184,6 +185,50 @@ TEST(RingDecoding, AMappedIdTheFamilyAcceptsNeedsItsCandidateBitsOnlyAmongTheMap
 TEST(RingDecoding, CandidateSidesMeasuredOnTheRingsReadANarrowSquare) {
   // Measured over seeds 1-10: 9 (not 7); 8 with the binary image's sides alone (not 1 or 7).
   expect_tag36h11_found("os1-64", 0.4, 6.0, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10}, 9);
+}
+
+// At 1.3-1.5 columns a cell, which columns fall in which cell flips within a fraction of a pixel,
+// so a candidate's reading swings with where its left and right sides lie. An OS1-64's 1 m tag at
+// 15 m spans 10.9 columns: seed 6's binary square, 511.5 to 522.5 (the print 511.7 to 522.5),
+// reads id 0 from only 7.8 chance-match bits, and with its left side a half pixel in from 19.0;
+// seed 7's reads 8.8 bits, 17.1 with its left side a half pixel out. The eight readings with the
+// sides moved pay log2(9) bits (10 with the measured sides). The sanitizer builds run seeds 6
+// and 7.
+TEST(RingDecoding, CandidateSidesMovedHalfAPixelReadAOneMetreTagAtFifteenMetres) {
+  // Measured over seeds 1-10: 10 (8 before: not seeds 6 and 7).
+  expect_tag36h11_found("os1-64", 1.0, 15.0, {6, 7, 1, 2, 3, 4, 5, 8, 9, 10}, 10);
+}
+
+// The same two scans through the decoder alone: its candidates decode id 0 with the sides moved,
+// and nothing without.
+TEST(RingDecoding, WithoutMovingTheSidesTheWeakCandidatesStayUndecoded) {
+  for (const int seed : {6, 7}) {
+    const eval::SimulatedCase c =
+        wall_case("os1-64", "apriltag:tag36h11", 0, 1.0, 15.0, seed, false);
+    const PipelineOptions options = eval::range_pipeline_options(c, eval::RangeSettings::kIilfm);
+    Pipeline pipeline(options);
+    const FrameResult& r = pipeline.process(c.scan.cloud);
+    const cv::Mat& intensity = options.preprocess.normalise.mode != IntensityNormalisation::kNone
+                                   ? r.preprocessed.normalised
+                                   : r.image.intensity;
+    const cv::Mat& binary = r.preprocessed.detect;
+    for (const double step : {0.5, 0.0}) {
+      detail::RingDecodeSettings settings;
+      settings.candidate_side_step_px = step;
+      const detail::RingDecoder decoder(options.families, settings, known_ids_of(options));
+      const detail::RingDecoder::Quads quads =
+          decoder.candidate_quads(binary, r.preprocessed.geometry, r.image);
+      std::vector<Detection> decoded;
+      decoder.decode_candidates(binary, r.preprocessed.geometry, r.image, intensity, quads, decoded,
+                                nullptr);
+      const bool id_0 =
+          std::any_of(decoded.begin(), decoded.end(), [](const Detection& d) { return d.id == 0; });
+      EXPECT_EQ(id_0, step > 0) << "seed " << seed << ", sides moved by " << step << " px";
+      EXPECT_TRUE(
+          std::all_of(decoded.begin(), decoded.end(), [](const Detection& d) { return d.id == 0; }))
+          << "seed " << seed;
+    }
+  }
 }
 
 // An OS1-64's 1 m tag at 16 m (seed 3): 10 columns and 5 rings, its black square cut in two by
