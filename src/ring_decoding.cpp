@@ -442,10 +442,11 @@ void RingDecoder::read_weak_candidate_again(const std::string& family,
       first.decoded.security_bits >= settings_.candidate_min_security_bits)
     return;
   // Then with each side moved a step either way, at the first reading's top and bottom shifts:
-  // these readings differ in which columns fall in which cell, not in where the rows lie (and
-  // searching the shifts again for each made the false-positive harness 1.3 times slower than
-  // this, for a few more finds). Each is one more chance to match: the best pays log2 of every
-  // reading made, so the chance that any of them matches by chance stays that of one.
+  // these readings differ in which columns fall in which cell, not in where the rows lie
+  // (searching the shifts again for each, even a step either way of the first's, cost the
+  // false-positive harness more for much the same finds). Each is one more chance to match: the
+  // best pays log2 of every reading made, so the chance that any of them matches by chance stays
+  // that of one.
   std::vector<std::array<Vec2, 4>> moved;
   for (int left = -1; left <= 1; ++left)
     for (int right = -1; right <= 1; ++right)
