@@ -190,10 +190,9 @@ TEST(RingDecoding, CandidateSidesMeasuredOnTheRingsReadANarrowSquare) {
 // At 1.3-1.5 columns a cell, which columns fall in which cell flips within a fraction of a pixel,
 // so a candidate's reading swings with where its left and right sides lie. An OS1-64's 1 m tag at
 // 15 m spans 10.9 columns: seed 6's binary square, 511.5 to 522.5 (the print 511.7 to 522.5),
-// reads id 0 from only 7.8 chance-match bits, and with its left side a half pixel in from 19.0;
-// seed 7's reads 8.8 bits, 17.1 with its left side a half pixel out. The eight readings with the
-// sides moved pay log2(9) bits (10 with the measured sides). The sanitizer builds run seeds 6
-// and 7.
+// reads id 0 from only 7.8 chance-match bits, and at the same top and bottom shifts with both
+// sides half a pixel out from 21.0; seed 7's reads 8.8 bits, and 19.0 so moved. The eight
+// readings with the sides moved pay log2(9) bits. The sanitizer builds run seeds 6 and 7.
 TEST(RingDecoding, CandidateSidesMovedHalfAPixelReadAOneMetreTagAtFifteenMetres) {
   // Measured over seeds 1-10: 10 (8 before: not seeds 6 and 7).
   expect_tag36h11_found("os1-64", 1.0, 15.0, {6, 7, 1, 2, 3, 4, 5, 8, 9, 10}, 10);
