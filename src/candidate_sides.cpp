@@ -17,6 +17,32 @@ double median_of(std::vector<double>& v) {
 
 }  // namespace
 
+std::array<int, 4> side_facings(const std::array<Vec2, 4>& corners) {
+  Vec2 centre = Vec2::Zero();
+  for (const Vec2& p : corners) centre += 0.25 * p;
+  std::array<int, 4> facing{};
+  for (std::size_t k = 0; k < 4; ++k) {
+    const Vec2& a = corners[k];
+    const Vec2& b = corners[(k + 1) % 4];
+    const Vec2 d = b - a;
+    if (!(std::abs(d.y()) > std::abs(d.x()))) continue;  // a top or bottom side
+    facing[k] = 0.5 * (a.x() + b.x()) > centre.x() ? 1 : -1;
+  }
+  return facing;
+}
+
+std::array<Vec2, 4> sides_moved(const std::array<Vec2, 4>& corners, double left, double right) {
+  const std::array<int, 4> facing = side_facings(corners);
+  std::array<Vec2, 4> out = corners;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (facing[k] == 0) continue;
+    const double by = facing[k] > 0 ? right : left;
+    out[k].x() += by;
+    out[(k + 1) % 4].x() += by;
+  }
+  return out;
+}
+
 std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 4>& corners,
                                                          const ProjectedImage& image,
                                                          const cv::Mat& intensity, double black,
@@ -24,8 +50,7 @@ std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 
   if (!(white > black)) return std::nullopt;
   const ImageGeometry& g = image.geometry;
   const double mid = 0.5 * (black + white);
-  Vec2 centre = Vec2::Zero();
-  for (const Vec2& p : corners) centre += 0.25 * p;
+  const std::array<int, 4> facing = side_facings(corners);
   // The level of pixel (c, r), nothing where unobserved or outside.
   const auto level = [&](int c, int r) -> std::optional<double> {
     c = g.wrap_column(c);
@@ -38,9 +63,9 @@ std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 
     const Vec2 a = corners[static_cast<std::size_t>(k)];
     const Vec2 b = corners[static_cast<std::size_t>((k + 1) % 4)];
     const Vec2 d = b - a;
-    if (!(std::abs(d.y()) > std::abs(d.x()))) continue;  // a top or bottom side
+    if (facing[static_cast<std::size_t>(k)] == 0) continue;  // a top or bottom side
     ++sides;
-    const double outwards = 0.5 * (a.x() + b.x()) > centre.x() ? 1 : -1;
+    const double outwards = facing[static_cast<std::size_t>(k)];
     // The rows whose centres lie on the side, half a pixel in from its ends.
     const int first_row = static_cast<int>(std::ceil(std::min(a.y(), b.y()) + 0.5));
     const int last_row = static_cast<int>(std::floor(std::max(a.y(), b.y()) - 0.5));

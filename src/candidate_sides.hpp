@@ -14,6 +14,14 @@
 
 namespace iilfm::detail {
 
+// Which way each side of `corners` (side k runs from corner k to corner k + 1) faces along the
+// rows: -1 the left side, +1 the right one, 0 the top or bottom (a side nearer the horizontal).
+std::array<int, 4> side_facings(const std::array<Vec2, 4>& corners);
+
+// `corners` with the left side moved `left` and the right side `right` pixels along the rows, each
+// side's ends with it.
+std::array<Vec2, 4> sides_moved(const std::array<Vec2, 4>& corners, double left, double right);
+
 // `corners` (projected image, a quadrilateral) with each near-vertical side moved along the rows to
 // where the rows it spans step up across their own mid level going outwards from the black border
 // (midway between a row's darkest pixel within a pixel and a half of the side and its brightest

@@ -181,7 +181,7 @@ DecodeLimits RingDecoder::limits(const std::string& family) const {
 
 RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>& corners_px,
                            const ProjectedImage& image, const cv::Mat& intensity, bool candidate,
-                           const RingRead* shifts_of) const {
+                           std::optional<std::pair<double, double>> shifts) const {
   RingRead out;
   const auto it = books_.find(family);
   if (it == books_.end()) return out;
@@ -198,13 +198,11 @@ RingRead RingDecoder::read(const std::string& family, const std::array<Vec2, 4>&
   const int inward = static_cast<int>(std::lround(settings_.max_shift_cells / step));
   const int outward = static_cast<int>(std::lround(grow / step));
   MarkerSamples::Scratch scratch;
-  // A re-reading's one placing: the top and bottom shifts of `shifts_of`, in steps.
+  // A re-reading's one placing: `shifts`, in steps.
   std::optional<std::pair<int, int>> kept;
-  if (candidate && shifts_of)
-    kept = {
-        std::clamp(static_cast<int>(std::lround(shifts_of->shift_top / step)), -outward, inward),
-        std::clamp(static_cast<int>(std::lround(shifts_of->shift_bottom / step)), -inward,
-                   outward)};
+  if (candidate && shifts)
+    kept = {std::clamp(static_cast<int>(std::lround(shifts->first / step)), -outward, inward),
+            std::clamp(static_cast<int>(std::lround(shifts->second / step)), -inward, outward)};
   // The search reads only the samples that can fall in a fixed cell at one of its placings (the
   // same agreements from a fraction of the samples). A detection's placings move the square as a
   // whole; a candidate's move its top side by -outward..inward steps and its bottom side by
@@ -355,23 +353,6 @@ constexpr double kMinCandidatePixelsPerCell = 1.25;
 // How far measured sides must move a weakly read candidate's for a second reading (pixels).
 constexpr double kMinSideMovePx = 0.25;
 
-// `corners` with the left side moved `left` and the right side `right` pixels along the rows (the
-// sides nearer the vertical; their ends move with them).
-std::array<Vec2, 4> sides_moved(const std::array<Vec2, 4>& corners, double left, double right) {
-  double centre = 0;
-  for (const Vec2& p : corners) centre += 0.25 * p.x();
-  std::array<Vec2, 4> out = corners;
-  for (std::size_t k = 0; k < 4; ++k) {
-    const Vec2& a = corners[k];
-    const Vec2& b = corners[(k + 1) % 4];
-    if (!(std::abs(b.y() - a.y()) > std::abs(b.x() - a.x()))) continue;  // the top or bottom
-    const double by = 0.5 * (a.x() + b.x()) > centre ? right : left;
-    out[k].x() += by;
-    out[(k + 1) % 4].x() += by;
-  }
-  return out;
-}
-
 // The largest distance between corresponding corners.
 double moved_by(const std::array<Vec2, 4>& a, const std::array<Vec2, 4>& b) {
   double most = 0;
@@ -414,11 +395,13 @@ void RingDecoder::read_weak_candidate_again(const std::string& family,
                                             const std::array<Vec2, 4>& corners_px,
                                             const ProjectedImage& image, const cv::Mat& intensity,
                                             RingRead& first) const {
-  const RingRead original = first;
+  // The first reading's shifts and bits, before a better reading replaces it.
+  const std::pair<double, double> first_shifts(first.shift_top, first.shift_bottom);
+  const double first_bits = first.decoded.security_bits;
   int readings = 1;
   const auto read_again = [&](const std::array<Vec2, 4>& corners, double cost_bits,
-                              const RingRead* shifts_of) {
-    RingRead again = read(family, corners, image, intensity, true, shifts_of);
+                              std::optional<std::pair<double, double>> shifts) {
+    RingRead again = read(family, corners, image, intensity, true, shifts);
     again.decoded.security_bits -= cost_bits;
     if (again.read && again.decoded.accepted &&
         again.decoded.security_bits > first.decoded.security_bits)
@@ -428,17 +411,17 @@ void RingDecoder::read_weak_candidate_again(const std::string& family,
   // moves one of them by a quarter pixel or more (reading much the same placings again cost the
   // harness's cluttered scenes half as much time again). A second reading is a second chance to
   // match: it pays one bit.
-  const auto measured = measured_side_columns(corners_px, image, intensity, original.cells.black,
-                                              original.cells.white);
+  const auto measured =
+      measured_side_columns(corners_px, image, intensity, first.cells.black, first.cells.white);
   if (measured && moved_by(*measured, corners_px) >= kMinSideMovePx) {
     ++readings;
-    read_again(*measured, 1, nullptr);
+    read_again(*measured, 1, std::nullopt);
   }
   // Only a first reading that already says more than chance is worth moving the sides for: in the
   // false-positive harness's cluttered scenes that kept 238 of 242 of the finds for a third of
   // the readings.
   const double step = settings_.candidate_side_step_px;
-  if (!(step > 0) || original.decoded.security_bits < settings_.candidate_side_min_bits ||
+  if (!(step > 0) || first_bits < settings_.candidate_side_min_bits ||
       first.decoded.security_bits >= settings_.candidate_min_security_bits)
     return;
   // Then with each side moved a step either way, at the first reading's top and bottom shifts:
@@ -453,7 +436,7 @@ void RingDecoder::read_weak_candidate_again(const std::string& family,
       if (left != 0 || right != 0)
         moved.push_back(sides_moved(corners_px, left * step, right * step));
   const double cost_bits = std::log2(static_cast<double>(readings + moved.size()));
-  for (const std::array<Vec2, 4>& corners : moved) read_again(corners, cost_bits, &original);
+  for (const std::array<Vec2, 4>& corners : moved) read_again(corners, cost_bits, first_shifts);
 }
 
 void RingDecoder::decode_candidates(const cv::Mat& detect_gray,

@@ -8,7 +8,9 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cell_code_book.hpp"
@@ -91,11 +93,11 @@ class RingDecoder {
 
   // Reads and decodes the square at `corners_px` (projected-image coordinates, any corner first).
   // `candidate`: a quad no detector decoded (settings' candidate_* apply).
-  // `shifts_of` (a candidate's): keep that reading's top and bottom shifts instead of searching
-  // them (the same square read again with its left and right sides moved).
+  // `shifts` (a candidate's top and bottom shifts, cells, as RingRead's): read at them instead of
+  // searching them (the same square read again with its left and right sides moved).
   RingRead read(const std::string& family, const std::array<Vec2, 4>& corners_px,
                 const ProjectedImage& image, const cv::Mat& intensity, bool candidate = false,
-                const RingRead* shifts_of = nullptr) const;
+                std::optional<std::pair<double, double>> shifts = std::nullopt) const;
 
   // Checks `d` (corners in projected-image coordinates) against the ring samples; a corrected
   // detection gets the decoded id and its corners reordered.

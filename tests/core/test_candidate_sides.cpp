@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 
 #include "../../src/candidate_sides.hpp"
 
@@ -81,6 +82,24 @@ TEST(CandidateSides, NothingWithoutContrastOrWithoutRows) {
   ProjectedImage blank = image;
   blank.intensity.setTo(cv::Scalar(kWhite));
   EXPECT_FALSE(detail::measured_side_columns(quad, blank, blank.intensity, kBlack, kWhite));
+}
+
+// A quad turned a little, corners in any order: the sides nearer the vertical are the left and
+// right ones, and each moves with both its ends; the top and bottom only through those ends.
+TEST(CandidateSides, TheLeftAndRightSidesMoveByTheirOwnShifts) {
+  const std::array<Vec2, 4> quad = {Vec2(20.4, 8), Vec2(20, 14), Vec2(10, 14.5), Vec2(10.3, 8.2)};
+  const std::array<int, 4> facing = detail::side_facings(quad);
+  EXPECT_EQ(facing, (std::array<int, 4>{1, 0, -1, 0}));
+  const std::array<Vec2, 4> moved = detail::sides_moved(quad, -0.5, 0.25);
+  const std::array<Vec2, 4> expected = {Vec2(20.65, 8), Vec2(20.25, 14), Vec2(9.5, 14.5),
+                                        Vec2(9.8, 8.2)};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_DOUBLE_EQ(moved[k].x(), expected[k].x()) << "corner " << k;
+    EXPECT_EQ(moved[k].y(), quad[k].y()) << "corner " << k;
+  }
+  // Starting at the top-left corner gives the same sides, each in its own place.
+  const std::array<Vec2, 4> turned = {quad[3], quad[0], quad[1], quad[2]};
+  EXPECT_EQ(detail::side_facings(turned), (std::array<int, 4>{0, 1, 0, -1}));
 }
 
 }  // namespace
