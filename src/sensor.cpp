@@ -83,8 +83,9 @@ const std::vector<SensorPreset>& sensor_presets() {
                32, 0.2, 0.333, -25, 15, 40.0),
       spinning("hdl32e", "Velodyne HDL-32E (32 rings, 1.33 deg, 10 Hz)", 32, 0.16, 1.33, -30.67,
                10.67, 40.0),
-      spinning("hdl64e", "Velodyne HDL-64E (64 rings, about 0.4 deg, 10 Hz)", 64, 0.17, 0.4, -24.9,
-               2, 40.0),
+      // The manual's 64 equal subdivisions of 26.9 deg (0.427 deg; it rounds them to 0.4).
+      spinning("hdl64e", "Velodyne HDL-64E (64 rings, about 0.43 deg, 10 Hz)", 64, 0.17, 26.9 / 63,
+               -24.9, 2, 40.0),
       ouster("os0-32", "Ouster OS0-32 (32 rings over 90 deg, 1024 columns)", 32, kOuster1024,
              90.0 / 31, -45, 45),
       ouster("os0-64", "Ouster OS0-64 (64 rings over 90 deg, 1024 columns)", 64, kOuster1024,

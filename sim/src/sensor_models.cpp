@@ -38,18 +38,21 @@ std::vector<double> uniform_rings(int count, double lowest_deg, double highest_d
   return rings;
 }
 
-SensorModel velodyne(const std::string& name, std::vector<double> rings_deg) {
-  SensorModel s = spinning(name, std::move(rings_deg), kVelodyneAzimuthStepDeg);
+SensorModel velodyne(const std::string& name, std::vector<double> rings_deg,
+                     double step_deg = kVelodyneAzimuthStepDeg) {
+  SensorModel s = spinning(name, std::move(rings_deg), step_deg);
   s.range_sigma_m = 0.03;
   s.min_range_m = 0.5;
   s.divergence_h_deg = s.divergence_v_deg = kVelodyneDivergenceDeg;
   return s;
 }
 
-// Ouster OS1: 45 deg of uniformly spaced rings, columns set by the lidar mode (1024 or 2048 a
-// sweep at 10 Hz), +-3 cm precision at short range, 0.3 m minimum range (Rev 7 data sheet).
-SensorModel os1(const std::string& name, int rings, int columns) {
-  SensorModel s = spinning(name, uniform_rings(rings, -22.5, 22.5), 360.0 / columns);
+// Ouster: uniformly spaced rings over the model's vertical field (OS0 90, OS1 45, OS2 22.5 deg),
+// columns set by the lidar mode (1024 or 2048 a sweep at 10 Hz), +-3 cm precision at short range,
+// 0.3 m minimum range (OS1 Rev 7 data sheet).
+SensorModel ouster(const std::string& name, int rings, int columns, double fov_v_deg) {
+  SensorModel s =
+      spinning(name, uniform_rings(rings, -fov_v_deg / 2, fov_v_deg / 2), 360.0 / columns);
   s.range_sigma_m = 0.03;
   s.min_range_m = 0.3;
   s.max_range_m = 120;
@@ -111,11 +114,45 @@ SensorModel ultra_puck() {
   return s;
 }
 
-SensorModel os1_64() { return os1("os1-64", 64, 1024); }
-SensorModel os1_128() { return os1("os1-128", 128, 2048); }
+// HDL-32E manual: 32 lasers 1.33 deg apart from -30.67 to +10.67 deg, 0.16 deg columns at 10 Hz
+// (2250 a sweep), 2 cm accuracy, 100 m range.
+SensorModel hdl32e() {
+  SensorModel s = velodyne("hdl32e", uniform_rings(32, -30.67, 10.67), 0.16);
+  s.max_range_m = 100;
+  return s;
+}
+
+// HDL-64E S2/S3 manual: 64 lasers over +2..-24.9 deg in equal steps (about 0.43 deg; real units
+// are calibrated per laser), 0.17 deg columns at 10 Hz rounded to whole columns (2118 a sweep),
+// 120 m range.
+SensorModel hdl64e() {
+  SensorModel s = velodyne("hdl64e", uniform_rings(64, -24.9, 2), 360.0 / 2118);
+  s.max_range_m = 120;
+  return s;
+}
+
+SensorModel os1_64() { return ouster("os1-64", 64, 1024, 45); }
+SensorModel os1_128() { return ouster("os1-128", 128, 2048, 45); }
+
+// OS0 (90 deg) and OS2 (22.5 deg): the OS1's optics over another field of view. Their beam
+// divergence is taken as the OS1's scaled by the field (the same ring pitch in beam widths).
+SensorModel os0_128() {
+  SensorModel s = ouster("os0-128", 128, 1024, 90);
+  s.divergence_h_deg = s.divergence_v_deg = 2 * kOusterDivergenceDeg;
+  s.max_range_m = 50;
+  return s;
+}
+
+SensorModel os2_128() {
+  SensorModel s = ouster("os2-128", 128, 1024, 22.5);
+  s.divergence_h_deg = s.divergence_v_deg = kOusterDivergenceDeg / 2;
+  s.max_range_m = 240;
+  return s;
+}
 
 std::vector<std::string> sensor_model_names() {
-  return {"mid40", "vlp16", "ultrapuck", "vlp16-hires", "os1-64", "os1-128", "avia"};
+  return {"mid40", "vlp16",  "ultrapuck", "vlp16-hires", "os1-64", "os1-128",
+          "avia",  "hdl32e", "hdl64e",    "os0-128",     "os2-128"};
 }
 
 SensorModel sensor_model(const std::string& name) {
@@ -126,6 +163,10 @@ SensorModel sensor_model(const std::string& name) {
   if (name == "vlp16-hires") return vlp16_hires();
   if (name == "os1-64") return os1_64();
   if (name == "os1-128") return os1_128();
+  if (name == "hdl32e") return hdl32e();
+  if (name == "hdl64e") return hdl64e();
+  if (name == "os0-128") return os0_128();
+  if (name == "os2-128") return os2_128();
   std::string known;
   for (const std::string& n : sensor_model_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown simulated sensor '" + name + "' (known: " + known + ")");

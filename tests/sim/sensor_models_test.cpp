@@ -61,6 +61,38 @@ TEST(SensorModels, OusterOs1HasUniformRingsOver45DegreesAndItsColumns) {
   EXPECT_EQ(points_per_frame(s128), 128 * 2048);
 }
 
+TEST(SensorModels, VelodyneHdlModelsSpanTheirManualsFieldsInWholeColumns) {
+  const SensorModel s32 = hdl32e(), s64 = hdl64e();
+  ASSERT_EQ(s32.ring_elevations_deg.size(), 32u);
+  ASSERT_EQ(s64.ring_elevations_deg.size(), 64u);
+  EXPECT_DOUBLE_EQ(s32.ring_elevations_deg.front(), -30.67);
+  EXPECT_DOUBLE_EQ(s32.ring_elevations_deg.back(), 10.67);
+  EXPECT_NEAR(s32.ring_elevations_deg[1] - s32.ring_elevations_deg[0], 1.3335, 1e-4);
+  EXPECT_DOUBLE_EQ(s64.ring_elevations_deg.front(), -24.9);
+  EXPECT_DOUBLE_EQ(s64.ring_elevations_deg.back(), 2);
+  EXPECT_EQ(points_per_frame(s32), 32 * 2250);
+  EXPECT_EQ(points_per_frame(s64), 64 * 2118);
+  // Whole columns: the sweep closes on itself without overlapping.
+  EXPECT_NEAR(2118 * s64.azimuth_step_deg, 360, 1e-9);
+}
+
+TEST(SensorModels, OusterOs0AndOs2SpreadTheirRingsOver90And22Point5Degrees) {
+  const SensorModel s0 = os0_128(), s2 = os2_128();
+  ASSERT_EQ(s0.ring_elevations_deg.size(), 128u);
+  ASSERT_EQ(s2.ring_elevations_deg.size(), 128u);
+  EXPECT_DOUBLE_EQ(s0.ring_elevations_deg.front(), -45);
+  EXPECT_DOUBLE_EQ(s0.ring_elevations_deg.back(), 45);
+  EXPECT_DOUBLE_EQ(s2.ring_elevations_deg.front(), -11.25);
+  EXPECT_DOUBLE_EQ(s2.ring_elevations_deg.back(), 11.25);
+  EXPECT_EQ(points_per_frame(s0), 128 * 1024);
+  EXPECT_EQ(points_per_frame(s2), 128 * 1024);
+  EXPECT_TRUE(s0.raw_intensity);
+  EXPECT_TRUE(s2.raw_intensity);
+  // The same ring pitch in beam widths as the OS1.
+  EXPECT_GT(s0.divergence_v_deg, os1_128().divergence_v_deg);
+  EXPECT_LT(s2.divergence_v_deg, os1_128().divergence_v_deg);
+}
+
 TEST(SensorModels, DivergenceFromTheDataSheets) {
   EXPECT_DOUBLE_EQ(mid40().divergence_v_deg, 0.28);
   EXPECT_DOUBLE_EQ(mid40().divergence_h_deg, 0.03);

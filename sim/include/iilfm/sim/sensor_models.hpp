@@ -13,7 +13,7 @@ enum class ScanPattern {
 };
 
 struct SensorModel {
-  std::string name;  // "mid40", "avia", "vlp16", "vlp16-hires", "ultrapuck", "os1-64", "os1-128"
+  std::string name;  // sensor_model_names(): "mid40", "vlp16", "os1-64", ...
   ScanPattern pattern = ScanPattern::kRosette;
   double points_per_second = 0;
   double frame_rate_hz = 10;
@@ -41,6 +41,10 @@ SensorModel vlp16_hires();  // Velodyne VLP-16 Hi-Res (Puck Hi-Res): 16 rings -1
 SensorModel ultra_puck();   // Velodyne ULTRA Puck / VLP-32C: 32 non-uniform rings, 0.2 deg columns
 SensorModel os1_64();       // Ouster OS1-64: 64 uniform rings over 45 deg, 1024 columns
 SensorModel os1_128();      // Ouster OS1-128: 128 uniform rings over 45 deg, 2048 columns
+SensorModel hdl32e();       // Velodyne HDL-32E: 32 rings -30.67..+10.67 deg, 0.16 deg columns
+SensorModel hdl64e();       // Velodyne HDL-64E: 64 equally spaced rings -24.9..+2 deg, 2118 columns
+SensorModel os0_128();      // Ouster OS0-128: 128 uniform rings over 90 deg, 1024 columns
+SensorModel os2_128();      // Ouster OS2-128: 128 uniform rings over 22.5 deg, 1024 columns
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
