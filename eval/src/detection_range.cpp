@@ -1,10 +1,13 @@
 #include "iilfm/eval/detection_range.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <random>
 
 #include "iilfm/sensor.hpp"
+#include "iilfm/sim/sensor_models.hpp"
 
 namespace iilfm::eval {
 
@@ -26,6 +29,20 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
   return options;
 }
 
+double aim_pitch_deg(const std::string& sensor) {
+  std::vector<double> rings = sim::sensor_model(sensor).ring_elevations_deg;
+  if (rings.size() < 2) return 0;
+  std::sort(rings.begin(), rings.end());
+  double min_gap = rings.back() - rings.front(), max_gap = 0;
+  for (std::size_t i = 1; i < rings.size(); ++i) {
+    min_gap = std::min(min_gap, rings[i] - rings[i - 1]);
+    max_gap = std::max(max_gap, rings[i] - rings[i - 1]);
+  }
+  // Rings packed unevenly are packed where their makers expect targets: around the horizon.
+  if (max_gap > 1.05 * min_gap) return 0;
+  return std::round((rings.front() + rings.back()) / 2);
+}
+
 std::vector<RangeResult> detection_range(const RangeQuery& query,
                                          const std::vector<RangeSettings>& settings) {
   std::vector<RangeResult> results;
@@ -34,6 +51,9 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
   // large marker may not fit the field of view up close).
   std::vector<int> failures_in_a_row(settings.size(), 0);
   std::vector<bool> seen(settings.size(), false);
+  // A sensor whose field looks down (HDL-32E, HDL-64E) is tilted up so the level marker sits in
+  // the middle of its rings, not clipped by its top ring.
+  const double aim_pitch = aim_pitch_deg(query.sensor);
   auto done = [&](std::size_t k) { return failures_in_a_row[k] >= (seen[k] ? 2 : 8); };
   for (double distance : query.distances) {
     CaseSpec spec = tag_wall_spec(query.sensor, distance, query.marker_size_m);
@@ -50,7 +70,7 @@ std::vector<RangeResult> detection_range(const RangeQuery& query,
       // tilts and turns the LiDAR a little so the seeds sample that phase, not only the noise.
       std::mt19937 rng(static_cast<std::uint32_t>(seed));
       std::uniform_real_distribution<double> tilt(-1.0, 1.0);
-      spec.lidar_rpy_deg = Vec3(0, tilt(rng), 2 * tilt(rng));
+      spec.lidar_rpy_deg = Vec3(0, aim_pitch + tilt(rng), 2 * tilt(rng));
       const SimulatedCase c = simulate_case(spec, static_cast<std::uint64_t>(seed));
       for (std::size_t k = 0; k < settings.size(); ++k) {
         if (done(k)) continue;

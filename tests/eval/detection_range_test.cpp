@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace iilfm::eval {
 namespace {
 
@@ -49,6 +51,33 @@ TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   // 3 m: 6 of 10.
   EXPECT_LT(r[0].found[3].second, query.required);
   EXPECT_EQ(r[0].false_positives, 0);
+}
+
+// The HDL-32E's field runs from -30.67 to +10.67 deg: level with it, a 1 m tag 2 m away reaches
+// 14 deg up and is clipped. The walk tilts the LiDAR up so the marker sits mid-field.
+TEST(DetectionRange, AimsTheMiddleOfADownLookingFieldAtTheMarker) {
+  EXPECT_EQ(aim_pitch_deg("hdl32e"), -10.0);
+  EXPECT_EQ(aim_pitch_deg("hdl64e"), -11.0);
+  EXPECT_EQ(aim_pitch_deg("vlp16"), 0.0);
+  EXPECT_EQ(aim_pitch_deg("ultrapuck"), 0.0);  // its rings are packed around the horizon
+  EXPECT_EQ(aim_pitch_deg("mid40"), 0.0);
+
+  CaseSpec spec = tag_wall_spec("hdl32e", 2.0, 1.0);
+  for (double pitch : {0.0, aim_pitch_deg("hdl32e")}) {
+    spec.lidar_rpy_deg = Vec3(0, pitch, 0);
+    const SimulatedCase c = simulate_case(spec, 1);
+    ASSERT_EQ(c.scan.truth.markers.size(), 1u);
+    const sim::MarkerTruth& m = c.scan.truth.markers[0];
+    const Vec3 centre = m.T_lidar_marker.translation();
+    const double elevation_deg = std::atan2(centre.z(), centre.head<2>().norm()) * 180 / M_PI;
+    if (pitch == 0) {
+      EXPECT_NEAR(elevation_deg, 0.0, 0.5);
+      EXPECT_FALSE(m.visible);  // its top corners lie above the top ring
+    } else {
+      EXPECT_NEAR(elevation_deg, -10.0, 0.5);
+      EXPECT_TRUE(m.visible);
+    }
+  }
 }
 
 }  // namespace

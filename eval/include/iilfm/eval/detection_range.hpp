@@ -19,12 +19,18 @@ const char* settings_name(RangeSettings settings);
 // Options for the pipeline with `settings` on a simulated case (sensor preset, marker family).
 PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings settings);
 
+// Pitch (deg, rpy) the walk gives the LiDAR so the level marker sits in the middle of a field of
+// evenly spaced rings, rounded to a whole degree: -10 for the HDL-32E, -11 for the HDL-64E, 0 for
+// fields centred on the horizon. Rings packed unevenly (the ULTRA Puck's, densest around the
+// horizon) and rosette sensors get 0. Without it a field that looks down clips the marker.
+double aim_pitch_deg(const std::string& sensor);
+
 struct RangeQuery {
   std::string sensor;            // simulated sensor (and preset)
   double marker_size_m = 0.172;  // edge of the black square
   std::string family = "apriltag:tag36h11";
-  // Each seed also pitches the LiDAR by up to +-1 deg and yaws it by up to +-2 deg, so seeds
-  // sample where the rings cross the marker as well as the noise.
+  // Each seed also pitches the LiDAR (besides aim_pitch_deg) by up to +-1 deg and yaws it by up to
+  // +-2 deg, so seeds sample where the rings cross the marker as well as the noise.
   int seeds = 10, required = 9;
   bool footprint = true;    // beam-footprint intensity averaging (mixed edges)
   bool ring_decode = true;  // iilfm settings: PipelineOptions::ring_decode
