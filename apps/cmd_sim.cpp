@@ -189,10 +189,12 @@ Runner register_sim_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--invalid-as", a.invalid_as, "Invalid points as nan or zero coordinates")
       ->capture_default_str();
-  sub->add_option("--intensity-model", a.intensity_model,
-                  "sensor (the model's own: raw for Ouster, reflectivity otherwise), "
-                  "reflectivity (calibrated, as Livox/Velodyne) or raw (x cos(incidence) x "
-                  "(10 m / range)^2, as Ouster's photon count)")
+  sub->add_option(
+         "--intensity-model", a.intensity_model,
+         "sensor (the model's own: raw for Ouster, reflectivity otherwise, on Hesai's offset "
+         "scale for xt32), "
+         "reflectivity (calibrated, as Livox/Velodyne) or raw (x cos(incidence) x "
+         "(10 m / range)^2, as Ouster's photon count)")
       ->capture_default_str();
   a.min_range_opt = sub->add_option("--min-range", a.min_range,
                                     "Minimum range in metres (default: the sensor's)");

@@ -168,6 +168,11 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
   PointCloud& cloud = result.cloud;
   cloud.reserve(static_cast<std::size_t>(points_per_frame(sensor)) * options.frames, spinning,
                 true);
+  // The sensor's own scale for calibrated returns; the raw and reflectivity models as they are.
+  const bool own_scale = !raw && options.intensity_model == SimOptions::IntensityModel::kSensor;
+  const auto reported = [&](double intensity) {
+    return own_scale ? reported_intensity(sensor, intensity) : std::max(0.0, intensity);
+  };
   auto emit = [&](const Vec3& p, double intensity, const Beam& beam) {
     cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()),
                     static_cast<float>(intensity));
@@ -215,7 +220,7 @@ SimResult simulate(const Scene& scene, const SensorModel& nominal, const SimOpti
         black_fraction = spot.black_fraction;
       }
       if (dropout_draw < options.dark_dropout * black_fraction) continue;
-      emit(range * beam.direction, std::max(0.0, intensity + intensity_noise), beam);
+      emit(range * beam.direction, reported(intensity + intensity_noise), beam);
       if (hit.in_black_square) ++result.truth.markers[hit.marker].points_on_marker;
     }
   }

@@ -3,7 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "iilfm/error.hpp"
+#include "iilfm/sim/scenes.hpp"
+#include "iilfm/sim/simulate.hpp"
 
 namespace iilfm::sim {
 namespace {
@@ -91,6 +95,44 @@ TEST(SensorModels, OusterOs0AndOs2SpreadTheirRingsOver90And22Point5Degrees) {
   // The same ring pitch in beam widths as the OS1.
   EXPECT_GT(s0.divergence_v_deg, os1_128().divergence_v_deg);
   EXPECT_LT(s2.divergence_v_deg, os1_128().divergence_v_deg);
+}
+
+TEST(SensorModels, HesaiXt32HasRingsOneDegreeApartAnd2000Columns) {
+  const SensorModel s = xt32();
+  ASSERT_EQ(s.ring_elevations_deg.size(), 32u);
+  for (int r = 0; r < 32; ++r) EXPECT_NEAR(s.ring_elevations_deg[r], -16.0 + r, 1e-12);
+  EXPECT_EQ(points_per_frame(s), 32 * 2000);
+}
+
+// Hesai's scale as on the real Pandar64 frames: print black 60-85, white 110-145, walls mostly
+// above 100, so the preset's threshold of 100 splits ink from paper and wall; the calibrated
+// reflectivity of the other models (black 10, wall 60, white 120) would not.
+TEST(SensorModels, HesaiXt32ReportsPrintOnHesaisOffsetScale) {
+  const SensorModel s = xt32();
+  EXPECT_DOUBLE_EQ(reported_intensity(s, 10), 72);
+  EXPECT_DOUBLE_EQ(reported_intensity(s, 35), 93.5);  // between anchors: linear
+  EXPECT_DOUBLE_EQ(reported_intensity(s, 60), 115);
+  EXPECT_DOUBLE_EQ(reported_intensity(s, 120), 128);
+  EXPECT_NEAR(reported_intensity(s, 0), 72 - 10 * 43.0 / 50, 1e-12);  // the first slope beyond
+  EXPECT_DOUBLE_EQ(reported_intensity(s, 400), 255);                  // clamped
+  EXPECT_DOUBLE_EQ(reported_intensity(vlp16(), 37.5), 37.5);          // no curve: as is
+
+  SceneParams params;
+  params.distance_m = 2;
+  const SceneSetup setup = named_scene("tag-wall", params);
+  SimOptions options;
+  options.T_world_lidar = setup.T_world_lidar;
+  options.intensity_sigma = 0;
+  for (auto model :
+       {SimOptions::IntensityModel::kSensor, SimOptions::IntensityModel::kReflectivity}) {
+    options.intensity_model = model;
+    const SimResult r = simulate(setup.scene, s, options);
+    ASSERT_GT(r.cloud.size(), 1000u);
+    const auto [lo, hi] = std::minmax_element(r.cloud.intensity.begin(), r.cloud.intensity.end());
+    const bool own = model == SimOptions::IntensityModel::kSensor;
+    EXPECT_NEAR(*lo, own ? 72 : 10, 0.01);    // black print
+    EXPECT_NEAR(*hi, own ? 128 : 120, 0.01);  // white paper
+  }
 }
 
 TEST(SensorModels, DivergenceFromTheDataSheets) {

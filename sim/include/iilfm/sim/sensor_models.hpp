@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace iilfm::sim {
@@ -22,6 +23,10 @@ struct SensorModel {
   // Intensity falls with range and incidence (an Ouster's `intensity` field is a photon count)
   // rather than being calibrated reflectivity (Livox, Velodyne).
   bool raw_intensity = false;
+  // The sensor's own scale for calibrated returns (SimOptions::IntensityModel::kSensor): (return,
+  // reported) anchors, rising; linear between them and beyond the end ones, clamped to 0..255.
+  // Empty: the returns as they are. Hesai's scale is offset and compressed (xt32()).
+  std::vector<std::pair<double, double>> intensity_curve;
   double min_range_m = 0, max_range_m = 0;
   double fov_deg = 0;    // rosette: full cone angle (Mid-40: 38.4); horizontal if fov_v_deg is set
   double fov_v_deg = 0;  // rosette: full vertical angle of an elliptical cone; 0 = circular
@@ -45,12 +50,16 @@ SensorModel hdl32e();       // Velodyne HDL-32E: 32 rings -30.67..+10.67 deg, 0.
 SensorModel hdl64e();       // Velodyne HDL-64E: 64 equally spaced rings -24.9..+2 deg, 2118 columns
 SensorModel os0_128();      // Ouster OS0-128: 128 uniform rings over 90 deg, 1024 columns
 SensorModel os2_128();      // Ouster OS2-128: 128 uniform rings over 22.5 deg, 1024 columns
+SensorModel xt32();         // Hesai PandarXT-32: 32 rings -16..+15 deg, 0.18 deg, Hesai's scale
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
 
 // Names sensor_model() accepts, in a stable order.
 std::vector<std::string> sensor_model_names();
+
+// `intensity` on the sensor's own scale (SensorModel::intensity_curve).
+double reported_intensity(const SensorModel& sensor, double intensity);
 
 // Points in one frame (one 1/frame_rate_hz period).
 int points_per_frame(const SensorModel& sensor);

@@ -37,7 +37,8 @@ struct SimOptions {
   // reflectivity x cos(incidence) x (raw_reference_m / range)^2, equal to the reflectivity
   // head-on at raw_reference_m (no near-field loss, no saturation). Noise is added after.
   // kSensor: what the sensor model reports (SensorModel::raw_intensity: the Ouster models' photon
-  // count is raw, the others calibrated reflectivity).
+  // count is raw, the others calibrated reflectivity on their own scale:
+  // SensorModel::intensity_curve, Hesai's for the xt32).
   enum class IntensityModel {
     kSensor,
     kReflectivity,
