@@ -7,9 +7,9 @@
 namespace iilfm::cli {
 
 struct RangeStudyArgs {
-  std::vector<std::string> sensors = {"mid40",     "avia",    "vlp16",   "vlp16-hires",
-                                      "ultrapuck", "os1-64",  "os1-128", "hdl32e",
-                                      "hdl64e",    "os0-128", "os2-128", "xt32"};
+  std::vector<std::string> sensors = {"mid40",   "avia",    "vlp16",    "vlp16-hires", "ultrapuck",
+                                      "os1-64",  "os1-128", "hdl32e",   "hdl64e",      "os0-128",
+                                      "os2-128", "xt32",    "pandar40p"};
   std::vector<double> sizes = {0.172, 0.4, 1.0};
   int seeds = 10, required = 9;
   bool footprint = true;

@@ -165,6 +165,21 @@ SensorModel xt32() {
   return s;
 }
 
+// Pandar40P user manual: 40 channels from -25 to +15 deg, 1/3 deg apart from -6 to +2 deg and
+// coarser away from the horizon, 0.2 deg columns at 10 Hz, 0.3-200 m, +-2 cm accuracy. Intensity
+// and divergence as the XT32's.
+SensorModel pandar40p() {
+  std::vector<double> rings = {-25, -19, -14, -13, -12, -11, -10, -9, -8, -7};
+  for (const double e : uniform_rings(25, -6, 2)) rings.push_back(e);
+  for (const double e : {3, 5, 8, 11, 15}) rings.push_back(e);
+  SensorModel s = velodyne("pandar40p", std::move(rings), 0.2);
+  s.range_sigma_m = 0.02;
+  s.min_range_m = 0.3;
+  s.max_range_m = 200;
+  s.intensity_curve = xt32().intensity_curve;
+  return s;
+}
+
 double reported_intensity(const SensorModel& sensor, double intensity) {
   const auto& curve = sensor.intensity_curve;
   if (curve.size() < 2) return std::max(0.0, intensity);
@@ -177,8 +192,8 @@ double reported_intensity(const SensorModel& sensor, double intensity) {
 }
 
 std::vector<std::string> sensor_model_names() {
-  return {"mid40", "vlp16",  "ultrapuck", "vlp16-hires", "os1-64",  "os1-128",
-          "avia",  "hdl32e", "hdl64e",    "os0-128",     "os2-128", "xt32"};
+  return {"mid40",  "vlp16",  "ultrapuck", "vlp16-hires", "os1-64", "os1-128",  "avia",
+          "hdl32e", "hdl64e", "os0-128",   "os2-128",     "xt32",   "pandar40p"};
 }
 
 SensorModel sensor_model(const std::string& name) {
@@ -194,6 +209,7 @@ SensorModel sensor_model(const std::string& name) {
   if (name == "os0-128") return os0_128();
   if (name == "os2-128") return os2_128();
   if (name == "xt32") return xt32();
+  if (name == "pandar40p") return pandar40p();
   std::string known;
   for (const std::string& n : sensor_model_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown simulated sensor '" + name + "' (known: " + known + ")");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "iilfm/error.hpp"
 #include "iilfm/sim/scenes.hpp"
@@ -102,6 +103,22 @@ TEST(SensorModels, HesaiXt32HasRingsOneDegreeApartAnd2000Columns) {
   ASSERT_EQ(s.ring_elevations_deg.size(), 32u);
   for (int r = 0; r < 32; ++r) EXPECT_NEAR(s.ring_elevations_deg[r], -16.0 + r, 1e-12);
   EXPECT_EQ(points_per_frame(s), 32 * 2000);
+}
+
+TEST(SensorModels, HesaiPandar40PPacksAThirdOfADegreeAroundTheHorizon) {
+  const SensorModel s = pandar40p();
+  const std::vector<double>& rings = s.ring_elevations_deg;
+  ASSERT_EQ(rings.size(), 40u);
+  EXPECT_DOUBLE_EQ(rings.front(), -25);
+  EXPECT_DOUBLE_EQ(rings.back(), 15);
+  int third_apart = 0;
+  for (std::size_t r = 1; r < rings.size(); ++r) {
+    ASSERT_GT(rings[r], rings[r - 1]) << "ring " << r;
+    third_apart += std::abs(rings[r] - rings[r - 1] - 1.0 / 3) < 1e-9;
+  }
+  EXPECT_EQ(third_apart, 24);  // -6 to +2 deg
+  EXPECT_EQ(points_per_frame(s), 40 * 1800);
+  EXPECT_EQ(s.intensity_curve, xt32().intensity_curve);
 }
 
 // Hesai's scale as on the real Pandar64 frames: print black 60-85, white 110-145, walls mostly

@@ -51,6 +51,7 @@ SensorModel hdl64e();       // Velodyne HDL-64E: 64 equally spaced rings -24.9..
 SensorModel os0_128();      // Ouster OS0-128: 128 uniform rings over 90 deg, 1024 columns
 SensorModel os2_128();      // Ouster OS2-128: 128 uniform rings over 22.5 deg, 1024 columns
 SensorModel xt32();         // Hesai PandarXT-32: 32 rings -16..+15 deg, 0.18 deg, Hesai's scale
+SensorModel pandar40p();    // Hesai Pandar40P: 40 rings -25..+15 deg, 1/3 deg around the horizon
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
