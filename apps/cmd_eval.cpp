@@ -152,8 +152,9 @@ Runner register_eval_command(CLI::App& app) {
   sub->add_option("--distances", a.distances, "intensity: distances in metres (2 4 8 12)");
   sub->add_option("--near", a.near,
                   "intensity: also a marker this many metres away in every scan (0: none)");
-  sub->add_option("--intensity-model", a.intensity_model,
-                  "intensity: the simulator's intensity, raw or reflectivity")
+  sub->add_option(
+         "--intensity-model", a.intensity_model,
+         "intensity: the simulator's intensity, raw, reflectivity or sensor (the model's own)")
       ->capture_default_str();
   sub->add_option("--first-seed", a.first_seed, "First seed (seeds run consecutively)")
       ->capture_default_str();
