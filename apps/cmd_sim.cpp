@@ -191,8 +191,8 @@ Runner register_sim_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option(
          "--intensity-model", a.intensity_model,
-         "sensor (the model's own: raw for Ouster, reflectivity otherwise, on Hesai's offset "
-         "scale for xt32), "
+         "sensor (the model's own: raw for Ouster, reflectivity otherwise, on Hesai's scale "
+         "for xt32 and pandar40p), "
          "reflectivity (calibrated, as Livox/Velodyne) or raw (x cos(incidence) x "
          "(10 m / range)^2, as Ouster's photon count)")
       ->capture_default_str();

@@ -154,8 +154,8 @@ SensorModel os2_128() {
 // PandarXT-32 user manual: 32 channels 1 deg apart from -16 to +15 deg, 0.18 deg columns at 10 Hz
 // (2000 a sweep), 0.05-120 m, +-1 cm accuracy. Divergence not given: taken as the Velodynes'.
 // Intensity on Hesai's scale as the bundled real Pandar64 frames show it (docs/simulator.md):
-// print black 60-85 and white 110-145, most walls and floors 100-160. The scene's black 10, matt
-// wall 60 and white 120 go to 72, 115 and 128.
+// print black 60-85 and white 110-145, nearly every surface within 3 m at 100-160 (farther ones
+// on both sides of 100). The scene's black 10, matt wall 60 and white 120 go to 72, 115 and 128.
 SensorModel xt32() {
   SensorModel s = velodyne("xt32", uniform_rings(32, -16, 15), 0.18);
   s.range_sigma_m = 0.01;
