@@ -121,9 +121,9 @@ TEST(SensorModels, HesaiPandar40PPacksAThirdOfADegreeAroundTheHorizon) {
   EXPECT_EQ(s.intensity_curve, xt32().intensity_curve);
 }
 
-// Hesai's scale as on the real Pandar64 frames: print black 60-85, white 110-145, walls mostly
-// above 100, so the preset's threshold of 100 splits ink from paper and wall; the calibrated
-// reflectivity of the other models (black 10, wall 60, white 120) would not.
+// Hesai's scale as on the real Pandar64 frames: print black 60-85, white 110-145, the surfaces
+// near the sensor above 100, so the preset's threshold of 100 splits ink from paper and wall; the
+// calibrated reflectivity of the other models (black 10, wall 60, white 120) would not.
 TEST(SensorModels, HesaiXt32ReportsPrintOnHesaisOffsetScale) {
   const SensorModel s = xt32();
   EXPECT_DOUBLE_EQ(reported_intensity(s, 10), 72);
