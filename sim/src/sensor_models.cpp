@@ -151,23 +151,31 @@ SensorModel os2_128() {
   return s;
 }
 
-// PandarXT-32 user manual: 32 channels 1 deg apart from -16 to +15 deg, 0.18 deg columns at 10 Hz
-// (2000 a sweep), 0.05-120 m, +-1 cm accuracy. Divergence not given: taken as the Velodynes'.
+namespace {
+
 // Intensity on Hesai's scale as the bundled real Pandar64 frames show it (docs/simulator.md):
 // print black 60-85 and white 110-145, nearly every surface within 3 m at 100-160 (farther ones
 // on both sides of 100). The scene's black 10, matt wall 60 and white 120 go to 72, 115 and 128.
+std::vector<std::pair<double, double>> hesai_intensity_curve() {
+  return {{10, 72}, {60, 115}, {120, 128}, {255, 255}};
+}
+
+}  // namespace
+
+// PandarXT-32 user manual: 32 channels 1 deg apart from -16 to +15 deg, 0.18 deg columns at 10 Hz
+// (2000 a sweep), 0.05-120 m, +-1 cm accuracy. Divergence not given: taken as the Velodynes'.
 SensorModel xt32() {
   SensorModel s = velodyne("xt32", uniform_rings(32, -16, 15), 0.18);
   s.range_sigma_m = 0.01;
   s.min_range_m = 0.05;
   s.max_range_m = 120;
-  s.intensity_curve = {{10, 72}, {60, 115}, {120, 128}, {255, 255}};
+  s.intensity_curve = hesai_intensity_curve();
   return s;
 }
 
 // Pandar40P user manual: 40 channels from -25 to +15 deg, 1/3 deg apart from -6 to +2 deg and
-// coarser away from the horizon, 0.2 deg columns at 10 Hz, 0.3-200 m, +-2 cm accuracy. Intensity
-// and divergence as the XT32's.
+// coarser away from the horizon, 0.2 deg columns at 10 Hz, 0.3-200 m, +-2 cm accuracy. Divergence
+// as the XT32's.
 SensorModel pandar40p() {
   std::vector<double> rings = {-25, -19, -14, -13, -12, -11, -10, -9, -8, -7};
   for (const double e : uniform_rings(25, -6, 2)) rings.push_back(e);
@@ -176,7 +184,7 @@ SensorModel pandar40p() {
   s.range_sigma_m = 0.02;
   s.min_range_m = 0.3;
   s.max_range_m = 200;
-  s.intensity_curve = xt32().intensity_curve;
+  s.intensity_curve = hesai_intensity_curve();
   return s;
 }
 
@@ -191,25 +199,40 @@ double reported_intensity(const SensorModel& sensor, double intensity) {
   return std::clamp(y, 0.0, 255.0);
 }
 
+namespace {
+
+// Every model by name, in sensor_model_names()'s order: one list for the names and the lookup.
+struct NamedModel {
+  const char* name;
+  SensorModel (*make)();
+};
+constexpr NamedModel kModels[] = {
+    {"mid40", mid40},
+    {"vlp16", vlp16},
+    {"ultrapuck", ultra_puck},
+    {"vlp16-hires", vlp16_hires},
+    {"os1-64", os1_64},
+    {"os1-128", os1_128},
+    {"avia", avia},
+    {"hdl32e", hdl32e},
+    {"hdl64e", hdl64e},
+    {"os0-128", os0_128},
+    {"os2-128", os2_128},
+    {"xt32", xt32},
+    {"pandar40p", pandar40p},
+};
+
+}  // namespace
+
 std::vector<std::string> sensor_model_names() {
-  return {"mid40",  "vlp16",  "ultrapuck", "vlp16-hires", "os1-64", "os1-128",  "avia",
-          "hdl32e", "hdl64e", "os0-128",   "os2-128",     "xt32",   "pandar40p"};
+  std::vector<std::string> names;
+  for (const NamedModel& m : kModels) names.emplace_back(m.name);
+  return names;
 }
 
 SensorModel sensor_model(const std::string& name) {
-  if (name == "mid40") return mid40();
-  if (name == "avia") return avia();
-  if (name == "vlp16") return vlp16();
-  if (name == "ultrapuck") return ultra_puck();
-  if (name == "vlp16-hires") return vlp16_hires();
-  if (name == "os1-64") return os1_64();
-  if (name == "os1-128") return os1_128();
-  if (name == "hdl32e") return hdl32e();
-  if (name == "hdl64e") return hdl64e();
-  if (name == "os0-128") return os0_128();
-  if (name == "os2-128") return os2_128();
-  if (name == "xt32") return xt32();
-  if (name == "pandar40p") return pandar40p();
+  for (const NamedModel& m : kModels)
+    if (name == m.name) return m.make();
   std::string known;
   for (const std::string& n : sensor_model_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown simulated sensor '" + name + "' (known: " + known + ")");
