@@ -57,6 +57,12 @@ std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 
     if (!g.contains_pixel(c, r) || !image.observed(c, r)) return std::nullopt;
     return static_cast<double>(intensity.at<float>(r, c));
   };
+  // Where pixel (c, r)'s sample lies (ProjectedImage::column_offset), in columns.
+  const auto position = [&](int c, int r) {
+    const int wrapped = g.wrap_column(c);
+    if (image.column_offset.empty() || !g.contains_pixel(wrapped, r)) return double(c);
+    return c + static_cast<double>(image.column_offset.at<float>(r, wrapped));
+  };
   std::array<Vec2, 4> out = corners;
   int sides = 0;
   for (int k = 0; k < 4; ++k) {
@@ -94,19 +100,20 @@ std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 
       // alone says nothing of the edge.
       if (bright - dark < 0.5 * (white - black) || dark > mid) continue;
       const double row_mid = 0.5 * (dark + bright);
+      const auto column = [&](int j) { return start + static_cast<int>(outwards) * j; };
       double previous = dark;
-      int previous_at = darkest;
+      double previous_at = position(column(darkest), r);
       for (int j = darkest + 1; j < count; ++j) {
         const auto& v = row[static_cast<std::size_t>(j)];
         if (!v) continue;
+        const double at = position(column(j), r);
         if (*v >= row_mid) {
-          const double at =
-              previous_at + (j - previous_at) * (row_mid - previous) / (*v - previous);
-          shifts.push_back(start + outwards * at - side_x);
+          shifts.push_back(previous_at +
+                           (at - previous_at) * (row_mid - previous) / (*v - previous) - side_x);
           break;
         }
         previous = *v;
-        previous_at = j;
+        previous_at = at;
       }
     }
     if (shifts.size() < 2) return std::nullopt;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <exception>
 #include <functional>
@@ -15,6 +16,7 @@
 #include "iilfm/square_pixels.hpp"
 #include "parallel_parts.hpp"
 #include "ring_decoding.hpp"
+#include "ring_row_alignment.hpp"
 #include "seam_detection.hpp"
 #include "task_threads.hpp"
 
@@ -292,12 +294,47 @@ void Pipeline::keep_measured_detections(std::vector<Detection>& detections,
   detections.resize(kept);
 }
 
+namespace {
+
+// The pixels edge refinement may read around `detections`: each one's box grown by half its size
+// (past the quiet zone, a cell wide, of any family) and 2 pixels; every column when a box has
+// columns past the image's edges (across a full circle's seam they continue on the other side).
+cv::Rect edge_reach(const std::vector<Detection>& detections, int width) {
+  cv::Rect reach;
+  for (const Detection& d : detections) {
+    if (d.corners_px.empty()) continue;
+    double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
+    for (const Vec2& p : d.corners_px) {
+      if (!p.allFinite()) return cv::Rect(0, 0, INT_MAX / 2, INT_MAX / 2);  // everything
+      u_lo = std::min(u_lo, p.x());
+      u_hi = std::max(u_hi, p.x());
+      v_lo = std::min(v_lo, p.y());
+      v_hi = std::max(v_hi, p.y());
+    }
+    const double grow = 0.5 * std::max(u_hi - u_lo, v_hi - v_lo) + 2;
+    const int x0 = static_cast<int>(std::floor(u_lo - grow)),
+              x1 = static_cast<int>(std::ceil(u_hi + grow));
+    const int y0 = static_cast<int>(std::floor(v_lo - grow)),
+              y1 = static_cast<int>(std::ceil(v_hi + grow));
+    const cv::Rect box(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+    reach = reach.empty() ? box : (reach | box);
+  }
+  if (reach.x < 0 || reach.x + reach.width > width) {  // wrapped columns: every column
+    reach.x = 0;
+    reach.width = width;
+  }
+  return reach;
+}
+
+}  // namespace
+
 MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
-                                   const ProjectedImage& image, int fit_threads) const {
+                                   const ProjectedImage& image, const ProjectedImage& edge_image,
+                                   int fit_threads) const {
   MarkerResult marker;
   if (options_.edge_refine) {
     const EdgeRefinement edges = refine_edges_to_mid_level(
-        detection.corners_px, image, family_layout(detection.family).border_width);
+        detection.corners_px, edge_image, family_layout(detection.family).border_width);
     if (edges.ok) detection.corners_px = edges.corners_px;
   }
   if (options_.lift == LiftMethod::kPlane) {
@@ -322,7 +359,7 @@ MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
 }
 
 void Pipeline::lift_markers(std::vector<Detection>& detections, const PointView& cloud,
-                            FrameResult& r) const {
+                            FrameResult& r) {
   // Markers are lifted independently (the plane fit's buffers are per thread), each into its own
   // slot, so the results do not depend on the threads. A small cloud's lifts take less than a
   // thread's start.
@@ -333,12 +370,23 @@ void Pipeline::lift_markers(std::vector<Detection>& detections, const PointView&
       cloud.size() >= kMinPointsForThreads ? detail::parts_for(options_.lift_threads, n, 1) : 1;
   // Threads left over (a single marker) gather its plane fit's points.
   const int fit_threads = std::max(options_.plane_fit.threads, options_.lift_threads / parts);
+  // Edges are measured where the samples lie: with samples off the column grid, on the values
+  // moved to the pixel centres (the same image's headers otherwise).
+  const bool centred = options_.edge_refine && n > 0 && !r.image.column_offset.empty();
+  if (centred) {
+    edge_image_.geometry = r.image.geometry;
+    edge_image_.mask = r.image.mask;
+    edge_image_.count = r.image.count;
+    detail::intensity_at_centres(r.image, edge_image_.intensity,
+                                 edge_reach(detections, r.image.geometry.width));
+  }
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(parts));
   detail::in_parts(parts, [&](int k, int count) {
     const auto [begin, end] = detail::part_range(n, k, count);
     try {
       for (std::size_t i = begin; i < end; ++i)
-        r.markers[i] = lift_marker(std::move(detections[i]), cloud, r.image, fit_threads);
+        r.markers[i] = lift_marker(std::move(detections[i]), cloud, r.image,
+                                   centred ? edge_image_ : r.image, fit_threads);
     } catch (...) {
       failures[static_cast<std::size_t>(k)] = std::current_exception();
     }
@@ -416,6 +464,7 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
   for (Detection& d : detections) {
     for (Vec2& px : d.corners_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
     for (Vec2& px : d.outline_px) px = map_pixel(px, r.preprocessed.geometry, r.image.geometry);
+    detail::move_to_samples(r.image, d.corners_px, d.outline_px);
   }
   keep_measured_detections(detections, r);
   if (candidates) {

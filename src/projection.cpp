@@ -15,6 +15,7 @@
 #include "lane_range.hpp"
 #include "parallel_parts.hpp"
 #include "projection_passes.hpp"
+#include "ring_row_alignment.hpp"
 
 namespace iilfm {
 
@@ -82,6 +83,11 @@ ImageGeometry geometry_for_bounds(const AngularBounds& bounds, double res_h, dou
   g.u0 = bounds.azimuth_max / res_h;
   g.v0 = bounds.elevation_max / res_v;
   g.width = static_cast<int>(std::lround((bounds.azimuth_max - bounds.azimuth_min) / res_h)) + 1;
+  // A cloud all round the sensor (a sweep from -180 to +180 deg, or a preset's full field) has one
+  // turn of columns: one more would show the first column's direction again beside the seam, and
+  // the samples there twice. Points past the last column wrap to the first (turn_columns).
+  const int turn = static_cast<int>(std::lround(2 * M_PI / res_h));
+  g.width = std::min(g.width, turn);
   g.height =
       static_cast<int>(std::lround((bounds.elevation_max - bounds.elevation_min) / res_v)) + 1;
   return g;
@@ -366,6 +372,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     const RingRowLookup lookup(by_field ? RingStructure{} : *rings);
     const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / res_h);
     const float u_end = static_cast<float>(g.width) - 0.5f;
+    const float wrap = static_cast<float>(g.wrapping_columns());
     const auto row_stride = static_cast<int>(accumulator_row_stride(g.width));
     if (by_field) {
       const std::uint16_t* ring = cloud.ring.data;
@@ -381,7 +388,8 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
       for (std::size_t i = 0; i < n; ++i) {
         pixel_[i] = -1;
         if (!(range_[i] > 0)) continue;
-        const float u = u0 - azimuth_[i] * inv_res_h;
+        float u = u0 - azimuth_[i] * inv_res_h;
+        if (u >= u_end) u -= wrap;  // past a full circle's last column: the first one's
         if (!(u >= -0.5f && u < u_end)) continue;
         const int col = static_cast<int>(u + 0.5f);
         if (col >= g.width) continue;
@@ -439,6 +447,10 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
                                       out.count.ptr<std::int32_t>());
                        });
   pixels_clear_ = true;
+  if (rings && options_.column_offsets)
+    detail::measure_column_offsets(azimuth_.data(), out);
+  else
+    out.column_offset.release();
   out.points_projected = projected;
   out.stamp = next_projection_stamp();
 }

@@ -32,9 +32,12 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g, std::int3
               inv_res_v = static_cast<float>(1 / g.res_v);
   const float u_end = static_cast<float>(g.width) - 0.5f,
               v_end = static_cast<float>(g.height) - 0.5f;
+  const float wrap = static_cast<float>(g.wrapping_columns());
   std::size_t outside = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const float u = u0 - azimuth[i] * inv_res_h, v = v0 - elevation[i] * inv_res_v;
+    const float unwrapped = u0 - azimuth[i] * inv_res_h, v = v0 - elevation[i] * inv_res_v;
+    // Past a full circle's last column: the first one's (a product, not a select, to vectorise).
+    const float u = unwrapped - wrap * static_cast<float>(unwrapped >= u_end);
     // Bitwise, not short-circuit: no branch in the loop.
     const bool in = (range[i] > 0) & (u >= -0.5f) & (v >= -0.5f) & (u < u_end) & (v < v_end);
     // Inside, both are >= -0.5, so truncating x + 0.5 rounds to nearest without a libm call.
@@ -60,9 +63,11 @@ IILFM_AVX2_CLONES void ring_pixels_of_points(
   const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / g.res_h);
   const std::int32_t width = g.width;
   const float u_end = static_cast<float>(width) - 0.5f, width_f = static_cast<float>(width);
+  const float wrap = static_cast<float>(g.wrapping_columns());
   const auto last_ring = static_cast<std::int32_t>(ring_ids) - 1;
   for (std::size_t i = 0; i < n; ++i) {
-    const float u = u0 - azimuth[i] * inv_res_h;
+    const float unwrapped = u0 - azimuth[i] * inv_res_h;
+    const float u = unwrapped - wrap * static_cast<float>(unwrapped >= u_end);  // as above
     // As pixels_of_points: truncating u + 0.5 rounds to nearest inside the image, the clamp
     // (NaN to 0) keeps the conversion defined. Clamped to the width, not below it, so a sum
     // that rounds up to it still falls outside.

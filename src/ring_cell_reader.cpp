@@ -107,6 +107,7 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   }
   const std::size_t most =
       static_cast<std::size_t>(std::max(0, row_hi - row_lo + 1)) * cos_az.size();
+  const float* offsets = image.column_offset.empty() ? nullptr : image.column_offset.ptr<float>();
   a_.reserve(most);
   b_.reserve(most);
   intensity_.reserve(most);
@@ -116,9 +117,19 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
     for (int col = col_lo; col <= col_hi; ++col) {
       const int c = g.wrap_column(col);
       if (!g.contains_pixel(c, row) || !image.observed(c, row)) continue;
-      // The pixel's own direction, at the unwrapped column so it lies beside the marker.
+      // The pixel's own direction, at the unwrapped column so it lies beside the marker; its
+      // sample's own where it lies off the column grid.
       const std::size_t k = static_cast<std::size_t>(col - col_lo);
-      const Vec2 t = frame.of(Vec3(cos_el * cos_az[k], cos_el * sin_az[k], sin_el));
+      double cos_a = cos_az[k], sin_a = sin_az[k];
+      if (offsets) {
+        // d columns right is delta = d * res_h less azimuth; |delta| < 0.01 rad, so two terms of
+        // its cosine and sine are exact to 1e-10.
+        const double delta = offsets[static_cast<std::ptrdiff_t>(row) * g.width + c] * g.res_h;
+        const double cos_d = 1 - 0.5 * delta * delta, sin_d = delta * (1 - delta * delta / 6);
+        cos_a = cos_az[k] * cos_d + sin_az[k] * sin_d;
+        sin_a = sin_az[k] * cos_d - cos_az[k] * sin_d;
+      }
+      const Vec2 t = frame.of(Vec3(cos_el * cos_a, cos_el * sin_a, sin_el));
       a_.push_back(t.x());
       b_.push_back(t.y());
       intensity_.push_back(intensity.at<float>(row, c));

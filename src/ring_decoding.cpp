@@ -12,6 +12,7 @@
 #include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
 #include "iilfm/square_pixels.hpp"
+#include "ring_row_alignment.hpp"
 #include "seam_detection.hpp"
 
 namespace iilfm::detail {
@@ -465,6 +466,7 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
     std::array<Vec2, 4> projected;
     for (int k = 0; k < 4; ++k)
       projected[k] = map_pixel(detect_corners[k], detect_geometry, image.geometry);
+    move_hull_to_samples(image, projected);  // to where the samples lie
     if (known_at(0.25 * (projected[0] + projected[1] + projected[2] + projected[3]))) return;
     // The shorter of the top and bottom sides (the width) and of the left and right (the height).
     double narrowest = 1e9, lowest = 1e9;

@@ -109,6 +109,7 @@ void WindowProjector::project(const FrameWindow& window, ProjectedImage& out) {
     }
   }
   out.row_source = "uniform";
+  out.column_offset.release();  // uniform rows
   out.points_projected = points_inside_;
   window_seen_ = &window;
   pushes_seen_ = window.pushes();

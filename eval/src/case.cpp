@@ -90,6 +90,7 @@ SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed) {
   SimulatedCase c;
   c.setup = sim::named_scene(spec.scene, spec.scene_params);
   c.sensor = sim::sensor_model(spec.sensor.empty() ? c.setup.sensor : spec.sensor);
+  if (spec.on_column_grid) c.sensor.ring_azimuth_offsets_deg.clear();
   sim::SimOptions options = spec.physics;
   options.T_world_lidar = c.setup.T_world_lidar;
   options.T_world_lidar.linear() =
@@ -154,6 +155,7 @@ CaseScore run_case(const SimulatedCase& c, LiftMethod lift, const PipelineTweaks
   options.detector.apriltag.search_regions = tweaks.search_regions;
   options.detector.aruco.search_regions = tweaks.search_regions;
   options.detector.apriltag.decode_gray = tweaks.gray_decode;
+  options.projection.column_offsets = tweaks.column_offsets;
   Pipeline pipeline(options);
   return score_frame(pipeline.process(c.scan.cloud), c.scan.truth);
 }

@@ -198,12 +198,12 @@ class Pipeline {
   std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
-  // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`);
-  // lifts all of them into r.markers, on up to options_.lift_threads threads.
+  // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`;
+  // its sides refined on `edge_image`, `image` with its values at the pixel centres); lifts all of
+  // them into r.markers, on up to options_.lift_threads threads.
   MarkerResult lift_marker(Detection detection, const PointView& cloud, const ProjectedImage& image,
-                           int fit_threads) const;
-  void lift_markers(std::vector<Detection>& detections, const PointView& cloud,
-                    FrameResult& r) const;
+                           const ProjectedImage& edge_image, int fit_threads) const;
+  void lift_markers(std::vector<Detection>& detections, const PointView& cloud, FrameResult& r);
   // The intensity the thresholds work in: normalised when normalisation is on.
   const cv::Mat& ring_intensity(const FrameResult& r) const;
 
@@ -215,6 +215,9 @@ class Pipeline {
   KnownIds known_ids_;                                   // known_ids_of(options_)
   FrameResult result_;
   cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
+  // The projected image with its values moved to the pixel centres, for edge refinement on ring
+  // rows off the column grid (detail::intensity_at_centres), reused.
+  ProjectedImage edge_image_;
 };
 
 }  // namespace iilfm

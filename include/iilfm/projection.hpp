@@ -53,6 +53,11 @@ struct ImageGeometry {
   bool full_circle() const { return res_h > 0 && width >= columns_per_turn() - 0.5; }
   // The image column whose direction is nearest that of column `col`, which may lie one turn
   // off the image in a full-circle image; `col` itself otherwise.
+  // Columns a u at or past the last column's right edge wraps back by: one turn in a
+  // full-circle image, 0 otherwise (then such a u lies outside the image).
+  int wrapping_columns() const {
+    return full_circle() ? static_cast<int>(std::lround(columns_per_turn())) : 0;
+  }
   int wrap_column(int col) const {
     if ((col >= 0 && col < width) || !full_circle()) return col;  // the common case first
     const int turn = static_cast<int>(std::lround(columns_per_turn()));
@@ -96,6 +101,9 @@ struct ProjectionOptions {
   // Threads for the per-point and per-pixel passes of large clouds and images (at least 32k
   // points or 64k pixels a thread; at most 64). The images are the same for any count.
   int threads = 1;
+  // Ring rows: record where each pixel's sample lies when a ring fires off the column grid
+  // (ProjectedImage::column_offset; docs/pipeline.md, "Samples off the column grid").
+  bool column_offsets = true;
 };
 
 struct ProjectedImage {
@@ -105,6 +113,11 @@ struct ProjectedImage {
   cv::Mat mask;       // CV_8U 255 where observed, 0 where no point fell
   cv::Mat index;      // CV_32S index of the point nearest to the pixel centre; -1 where unobserved
   cv::Mat count;      // CV_32S number of points in the pixel
+  // Ring rows whose samples lie off the column grid (a spinning LiDAR's firing stagger, its
+  // encoder's phase): CV_32F, where each single-point pixel's sample lies, in columns right of its
+  // centre (0 for other pixels). Empty when every ring row lies within 0.05 columns of the grid,
+  // and for uniform rows.
+  cv::Mat column_offset;
   std::size_t points_projected = 0;
   std::string row_source = "uniform";  // "uniform", "ring field" or "elevation clusters"
   // A new value with every projection written into this image, so an incremental projector can

@@ -92,15 +92,35 @@ SensorModel avia() {
   return s;
 }
 
+namespace {
+
+// Lags of lasers fired one after another, `slots` firing times to a column, numbered from the
+// lowest up the lower half of the field and then the upper half (VLP-16 and HDL-32E manuals:
+// -15, +1, -13, +3, ... deg), so ring r (lowest first) is laser 2r or 2(r - half) + 1.
+std::vector<double> interleaved_firing_lags(int rings, int slots, double step_deg) {
+  std::vector<double> lags;
+  const int half = rings / 2;
+  for (int r = 0; r < rings; ++r) {
+    const int laser = r < half ? 2 * r : 2 * (r - half) + 1;
+    lags.push_back(laser * step_deg / slots);
+  }
+  return lags;
+}
+
+}  // namespace
+
+// VLP-16 manual: a laser fires every 2.304 us, a column of 16 every 55.296 us (24 firing times).
 SensorModel vlp16() {
   SensorModel s = velodyne("vlp16", uniform_rings(16, -15, 15));
   s.max_range_m = 100;
+  s.ring_azimuth_offsets_deg = interleaved_firing_lags(16, 24, s.azimuth_step_deg);
   return s;
 }
 
 SensorModel vlp16_hires() {
   SensorModel s = velodyne("vlp16-hires", uniform_rings(16, -10, 10));
   s.max_range_m = 100;
+  s.ring_azimuth_offsets_deg = interleaved_firing_lags(16, 24, s.azimuth_step_deg);
   return s;
 }
 
@@ -112,14 +132,31 @@ SensorModel ultra_puck() {
                              -1.333, -1,      -0.667, -0.333, 0,      0.333,  0.667,  1,
                              1.333,  1.667,   2.333,  3.333,  4.667,  7,      10.333, 15});
   s.max_range_m = 200;
+  // VLP-32C manual, per laser id: its elevation and azimuth offset (deg); lasers fire in pairs
+  // (ids 2k and 2k + 1) every 2.304 us, 24 firing times to a 55.296 us column.
+  constexpr double kElevation[32] = {-25,    -1,    -1.667, -15.639, -11.31, 0,     -0.667, -8.843,
+                                     -7.254, 0.333, -0.333, -6.148,  -5.333, 1.333, 0.667,  -4,
+                                     -4.667, 1.667, 1,      -3.667,  -3.333, 3.333, 2.333,  -2.667,
+                                     -3,     7,     4.667,  -2.333,  -2,     15,    10.333, -1.333};
+  constexpr double kAzimuthOffset[32] = {
+      1.4, -4.2, 1.4, -1.4, 1.4, -1.4, 4.2, -1.4, 1.4, -4.2, 1.4, -1.4, 4.2, -1.4, 4.2, -1.4,
+      1.4, -4.2, 1.4, -4.2, 4.2, -1.4, 1.4, -1.4, 1.4, -1.4, 1.4, -4.2, 4.2, -1.4, 1.4, -1.4};
+  for (const double elevation : s.ring_elevations_deg)
+    for (int id = 0; id < 32; ++id)
+      if (kElevation[id] == elevation)
+        s.ring_azimuth_offsets_deg.push_back(kAzimuthOffset[id] +
+                                             (id / 2) * s.azimuth_step_deg / 24);
   return s;
 }
 
 // HDL-32E manual: 32 lasers 1.33 deg apart from -30.67 to +10.67 deg, 0.16 deg columns at 10 Hz
 // (2250 a sweep), 2 cm accuracy, 100 m range.
+// A laser fires every 1.152 us, a column every 46.08 us (40 firing times), lowest first as the
+// VLP-16's.
 SensorModel hdl32e() {
   SensorModel s = velodyne("hdl32e", uniform_rings(32, -30.67, 10.67), 0.16);
   s.max_range_m = 100;
+  s.ring_azimuth_offsets_deg = interleaved_firing_lags(32, 40, s.azimuth_step_deg);
   return s;
 }
 
@@ -181,6 +218,13 @@ SensorModel pandar40p() {
   for (const double e : uniform_rings(25, -6, 2)) rings.push_back(e);
   for (const double e : {3, 5, 8, 11, 15}) rings.push_back(e);
   SensorModel s = velodyne("pandar40p", std::move(rings), 0.2);
+  // The manual's horizontal offsets per channel, channel 1 at the top (+15 deg): -1.042 deg for
+  // channels 1-6 and 31-40, and 3.125, -5.208, -1.042 in turn for channels 7-30.
+  for (int channel = 40; channel >= 1; --channel) {
+    constexpr double kTurn[3] = {3.125, -5.208, -1.042};
+    const bool turning = channel >= 7 && channel <= 30;
+    s.ring_azimuth_offsets_deg.push_back(turning ? kTurn[(channel - 7) % 3] : -1.042);
+  }
   s.range_sigma_m = 0.02;
   s.min_range_m = 0.3;
   s.max_range_m = 200;

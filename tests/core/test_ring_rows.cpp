@@ -279,6 +279,56 @@ TEST(RingRows, ProjectionGivesEveryRingItsOwnRowWithNoEmptyRow) {
   }
 }
 
+// A VLP-16 sweep as real drivers give it: from +180 deg round to just short of -180, every other
+// ring fired 0.75 of a column after the one below (its firing stagger), so their last samples lie
+// 0.05 deg from where the sweep began. The image has one turn of columns (not one more, which
+// showed the first column's direction twice beside the seam: the real Pandar64 frames in
+// ../shared/data/real gave 1801 columns of 0.2 deg), every sample has its own pixel, and the
+// projection records where the staggered rings' samples lie, the ones past the seam included.
+TEST(RingRows, ASweepAllRoundHasOneTurnOfColumnsAndKeepsWhereItsSamplesLie) {
+  PointCloud cloud;
+  for (int ring = 0; ring < 16; ++ring) {
+    const double elevation = (-15 + 2 * ring) * kDeg, lag = ring % 2 == 1 ? 0.15 : 0;
+    for (int c = 0; c < 1800; ++c) {
+      const double azimuth = (180 - 0.2 * c - lag) * kDeg;
+      cloud.push_back(static_cast<float>(8 * std::cos(elevation) * std::cos(azimuth)),
+                      static_cast<float>(8 * std::cos(elevation) * std::sin(azimuth)),
+                      static_cast<float>(8 * std::sin(elevation)), 50.f);
+      cloud.ring.push_back(static_cast<std::uint16_t>(ring));
+    }
+  }
+  ProjectionOptions options;
+  options.res_h_deg = 0.2;
+  options.res_v_deg = 2;
+  options.rows = RowLayout::kRings;
+  ProjectedImage image;
+  SphericalProjector(options).project(cloud, image);
+  EXPECT_EQ(image.row_source, "ring field");
+  ASSERT_EQ(image.geometry.width, 1800);
+  ASSERT_EQ(image.geometry.height, 16);
+  EXPECT_TRUE(image.geometry.full_circle());
+  EXPECT_EQ(image.points_projected, cloud.size());
+  EXPECT_EQ(cv::countNonZero(image.count == 1), 16 * 1800);
+  // Row 0 is ring 15, a staggered one: u = c + 0.75, so column c + 1 and 0.25 left of its
+  // centre; its last sample wraps to column 0.
+  ASSERT_FALSE(image.column_offset.empty());
+  for (int row = 0; row < 16; ++row) {
+    const double expected = row % 2 == 0 ? -0.25 : 0;
+    for (int c = 0; c < 1800; ++c)
+      ASSERT_NEAR(image.column_offset.at<float>(row, c), expected, 2e-3) << row << " " << c;
+  }
+  EXPECT_EQ(image.index.at<int>(0, 0), 16 * 1800 - 1);
+  EXPECT_EQ(image.index.at<int>(0, 1), 15 * 1800);
+  EXPECT_EQ(image.index.at<int>(15, 0), 0);
+  // Uniform rows in a preset's full field (-180..180 deg): one turn of columns too, none lost.
+  options.rows = RowLayout::kUniform;
+  options.field_of_view = AngularBounds{-M_PI, M_PI, -16 * kDeg, 16 * kDeg};
+  SphericalProjector(options).project(cloud, image);
+  EXPECT_EQ(image.geometry.width, 1800);
+  EXPECT_EQ(image.points_projected, cloud.size());
+  EXPECT_TRUE(image.column_offset.empty());
+}
+
 TEST(SquarePixels, CornersMapBackToTheProjectedImageExactly) {
   // VLP-16: uniform 2 deg rows; and the non-uniform ring rows.
   ImageGeometry vlp16 =

@@ -37,9 +37,13 @@ TEST(RealScans, Pandar64ScansReportNoMarker) {
     ASSERT_GT(loaded.cloud.size(), 100000u) << scan;
     const FrameResult& r = pipeline.process(loaded.cloud);
     EXPECT_EQ(r.markers.size(), 0u) << scan;
-    // A 360-degree scan at 0.2 deg: 1801 columns; rows cover the 64 rings' elevation span.
-    EXPECT_EQ(r.image.geometry.width, 1801) << scan;
+    // A 360-degree scan at 0.2 deg: one turn of 1800 columns (its azimuths span the whole turn,
+    // which once gave 1801 and the first column's direction twice); every point in the image.
+    EXPECT_EQ(r.image.geometry.width, 1800) << scan;
+    EXPECT_EQ(r.image.points_projected, loaded.cloud.size()) << scan;
     EXPECT_GT(cv::countNonZero(r.image.mask), 60000) << scan;
+    // Hesai's per-channel horizontal offsets put the rings' samples off the column grid.
+    EXPECT_FALSE(r.image.column_offset.empty()) << scan;
   }
 }
 

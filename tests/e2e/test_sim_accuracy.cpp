@@ -73,14 +73,17 @@ namespace iilfm::testing {
 namespace {
 
 // Known-size refinement: with the size from the map, the reported corners are the best square of
-// that size, which averages the four corners' independent errors (ULTRA Puck at 10 m: measured
-// 10.4 mm mean vertex error as lifted, 3.2 mm after the fit, seeds 1-5).
+// that size, which averages the four corners' independent errors. ULTRA Puck at 10 m, each seed
+// at its own sub-pixel placement (jitter_px), its lasers at the manual's azimuth offsets: measured
+// 16.8 mm mean vertex error as lifted, 6.9 mm after the fit (seeds 1-3); over 16 seeds 16.1 and
+// 6.0 mm (with every ring on the column grid, as the simulator once fired them: 13.0 and 6.7).
 TEST(SimAccuracy, KnownSizeSquareFitTightensTheVertices) {
   double lifted = 0, fitted = 0;
   for (std::uint64_t seed : {1, 2, 3}) {
     eval::CaseSpec spec;
     spec.scene = "ccw10m";
     spec.sensor = "ultrapuck";
+    spec.jitter_px = 1;
     const eval::SimulatedCase c = eval::simulate_case(spec, seed);
     PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
     options.fit_known_size = false;
@@ -102,9 +105,8 @@ TEST(SimAccuracy, KnownSizeSquareFitTightensTheVertices) {
   }
   std::printf("ULTRA Puck 10 m mean vertex error: lifted %.1f mm, square fit %.1f mm\n",
               lifted * 1000, fitted * 1000);
-  EXPECT_LT(fitted, 0.006);
-  // Measured with ring rows and square pixels: lifted 8.0 mm, fitted 4.9 mm.
-  EXPECT_LT(fitted, 0.7 * lifted);
+  EXPECT_LT(fitted, 0.009);
+  EXPECT_LT(fitted, 0.6 * lifted);
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 // Spinning sensors: ring and time fields, ring elevations, sweep timing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <vector>
 
 #include "iilfm/sim/sim.hpp"
 
@@ -47,6 +49,35 @@ TEST(Spinning, Vlp16ReturnsAll16RingsAtTheirElevations) {
 
 TEST(Spinning, UltraPuckReturnsAll32RingsAtTheirElevations) {
   expect_rings_at_table_elevations(ultra_puck());
+}
+
+// Each ring fires at its model's azimuth offset, clockwise of its column: every point of ring r
+// lies the same fraction of a column past the grid, frac(offset_r / step) (the VLP-16's rings
+// 2.304 us apart in its firing order, the VLP-32C's and Pandar40P's manual offsets), and the
+// tables give every ring one offset (the VLP-32C's are matched to its rings by elevation).
+TEST(Spinning, EveryRingLiesAtItsFiringOffsetFromTheColumnGrid) {
+  for (const SensorModel& sensor : {vlp16(), vlp16_hires(), ultra_puck(), hdl32e(), pandar40p()}) {
+    SCOPED_TRACE(sensor.name);
+    const std::size_t rings = sensor.ring_elevations_deg.size();
+    ASSERT_EQ(sensor.ring_azimuth_offsets_deg.size(), rings);
+    const SimResult r = scan_tag_wall(sensor, 1);
+    std::vector<int> seen(rings, 0);
+    for (std::size_t i = 0; i < r.cloud.size(); ++i) {
+      const Vec3 p = r.cloud.point(i);
+      const double columns =
+          (180.0 - std::atan2(p.y(), p.x()) * kRadToDeg) / sensor.azimuth_step_deg;
+      const double lag = sensor.ring_azimuth_offsets_deg[r.cloud.ring[i]] / sensor.azimuth_step_deg;
+      double phase = (columns - std::floor(columns)) - (lag - std::floor(lag));
+      phase -= std::round(phase);
+      ASSERT_NEAR(phase, 0, 1e-3) << "ring " << r.cloud.ring[i];
+      ++seen[r.cloud.ring[i]];
+    }
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 0), 0);
+  }
+  // The VLP-16: its -1 and +1 deg rings (7 and 8) fire 13 slots of 24 apart.
+  const SensorModel v = vlp16();
+  EXPECT_NEAR((v.ring_azimuth_offsets_deg[7] - v.ring_azimuth_offsets_deg[8]) / v.azimuth_step_deg,
+              13.0 / 24, 1e-12);
 }
 
 // The head turns clockwise seen from above, starting behind the sensor: azimuth a fires at

@@ -24,6 +24,10 @@ struct CaseSpec {
   // changes from seed to seed, as it does between real set-ups. Without it every seed samples
   // the same sub-pixel phase, and the pixel grid's error repeats as one fixed bias (0: none).
   double jitter_px = 0;
+  // Spinning sensors: fire each ring at its column's azimuth, not at the sensor's own offsets
+  // (sim::SensorModel::ring_azimuth_offsets_deg), as the simulator did before it had them: for
+  // comparisons, and for cases found in such scans.
+  bool on_column_grid = false;
   // Noise and physics (T_world_lidar, frames and seed are filled in from the fields above).
   sim::SimOptions physics;
 };
@@ -84,6 +88,7 @@ struct PipelineTweaks {
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   bool search_regions = AprilTagOptions{}.search_regions;
   bool gray_decode = AprilTagOptions{}.decode_gray;
+  bool column_offsets = ProjectionOptions{}.column_offsets;
 };
 
 // Runs the pipeline with `lift` (and `tweaks`) on the simulated scan and scores it.

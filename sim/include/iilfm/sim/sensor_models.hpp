@@ -32,6 +32,12 @@ struct SensorModel {
   double fov_v_deg = 0;  // rosette: full vertical angle of an elliptical cone; 0 = circular
   std::vector<double> ring_elevations_deg;  // spinning: index = ring number, ring 0 lowest
   double azimuth_step_deg = 0;              // spinning: column step
+  // Spinning: how far each ring's beam points clockwise (the spin direction) of its column's
+  // azimuth, degrees, index = ring number: the lasers of a column fire a few microseconds apart
+  // (Velodyne) or look through the optics at fixed horizontal offsets (Hesai), and drivers give
+  // each point its own azimuth, so the rings of one column fall up to a column apart. Empty: every
+  // ring at the column's azimuth (Ouster's offsets are whole columns).
+  std::vector<double> ring_azimuth_offsets_deg;
   // Full beam divergence across (horizontal, along the azimuth) and up (vertical): the footprint
   // a return's intensity is averaged over when SimOptions::footprint is on.
   double divergence_h_deg = 0, divergence_v_deg = 0;
