@@ -303,19 +303,14 @@ cv::Rect edge_reach(const std::vector<Detection>& detections, int width) {
   cv::Rect reach;
   for (const Detection& d : detections) {
     if (d.corners_px.empty()) continue;
-    double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
-    for (const Vec2& p : d.corners_px) {
-      if (!p.allFinite()) return cv::Rect(0, 0, INT_MAX / 2, INT_MAX / 2);  // everything
-      u_lo = std::min(u_lo, p.x());
-      u_hi = std::max(u_hi, p.x());
-      v_lo = std::min(v_lo, p.y());
-      v_hi = std::max(v_hi, p.y());
-    }
-    const double grow = 0.5 * std::max(u_hi - u_lo, v_hi - v_lo) + 2;
-    const int x0 = static_cast<int>(std::floor(u_lo - grow)),
-              x1 = static_cast<int>(std::ceil(u_hi + grow));
-    const int y0 = static_cast<int>(std::floor(v_lo - grow)),
-              y1 = static_cast<int>(std::ceil(v_hi + grow));
+    const std::optional<cv::Rect2d> corners =
+        detail::box_around(d.corners_px.data(), d.corners_px.size());
+    if (!corners) return cv::Rect(0, 0, INT_MAX / 2, INT_MAX / 2);  // everything
+    const double grow = 0.5 * std::max(corners->width, corners->height) + 2;
+    const int x0 = static_cast<int>(std::floor(corners->x - grow)),
+              x1 = static_cast<int>(std::ceil(corners->x + corners->width + grow));
+    const int y0 = static_cast<int>(std::floor(corners->y - grow)),
+              y1 = static_cast<int>(std::ceil(corners->y + corners->height + grow));
     const cv::Rect box(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
     reach = reach.empty() ? box : (reach | box);
   }

@@ -85,9 +85,8 @@ ImageGeometry geometry_for_bounds(const AngularBounds& bounds, double res_h, dou
   g.width = static_cast<int>(std::lround((bounds.azimuth_max - bounds.azimuth_min) / res_h)) + 1;
   // A cloud all round the sensor (a sweep from -180 to +180 deg, or a preset's full field) has one
   // turn of columns: one more would show the first column's direction again beside the seam, and
-  // the samples there twice. Points past the last column wrap to the first (turn_columns).
-  const int turn = static_cast<int>(std::lround(2 * M_PI / res_h));
-  g.width = std::min(g.width, turn);
+  // the samples there twice. Points past the last column wrap to the first (wrapping_columns).
+  g.width = std::min(g.width, static_cast<int>(std::lround(g.columns_per_turn())));
   g.height =
       static_cast<int>(std::lround((bounds.elevation_max - bounds.elevation_min) / res_v)) + 1;
   return g;

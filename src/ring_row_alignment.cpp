@@ -85,22 +85,29 @@ void intensity_at_centres(const ProjectedImage& image, cv::Mat& out, cv::Rect wi
   }
 }
 
-ColumnOffsets column_offsets_in_box(const ProjectedImage& image, const Vec2* corners,
-                                    std::size_t count) {
-  ColumnOffsets out;
-  if (image.column_offset.empty() || count == 0) return out;
+std::optional<cv::Rect2d> box_around(const Vec2* points, std::size_t count) {
   double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
-  for (const Vec2* p = corners; p != corners + count; ++p) {
-    if (!p->allFinite()) return out;
+  for (const Vec2* p = points; p != points + count; ++p) {
+    if (!p->allFinite()) return std::nullopt;
     u_lo = std::min(u_lo, p->x());
     u_hi = std::max(u_hi, p->x());
     v_lo = std::min(v_lo, p->y());
     v_hi = std::max(v_hi, p->y());
   }
+  return cv::Rect2d(u_lo, v_lo, u_hi - u_lo, v_hi - v_lo);
+}
+
+ColumnOffsets column_offsets_in_box(const ProjectedImage& image, const Vec2* corners,
+                                    std::size_t count) {
+  ColumnOffsets out;
+  if (image.column_offset.empty() || count == 0) return out;
+  const std::optional<cv::Rect2d> box = box_around(corners, count);
+  if (!box) return out;
   const ImageGeometry& g = image.geometry;
-  const int r0 = std::max(0, static_cast<int>(std::floor(v_lo))),
-            r1 = std::min(g.height - 1, static_cast<int>(std::ceil(v_hi)));
-  const int c0 = static_cast<int>(std::floor(u_lo)), c1 = static_cast<int>(std::ceil(u_hi));
+  const int r0 = std::max(0, static_cast<int>(std::floor(box->y))),
+            r1 = std::min(g.height - 1, static_cast<int>(std::ceil(box->y + box->height)));
+  const int c0 = static_cast<int>(std::floor(box->x)),
+            c1 = static_cast<int>(std::ceil(box->x + box->width));
   double sum = 0;
   int n = 0;
   bool any_row = false;

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "iilfm/projection.hpp"
@@ -31,6 +32,9 @@ void measure_column_offsets(const float* azimuth, ProjectedImage& image);
 // `within` are moved: `out` holds image.intensity's values elsewhere, and everywhere when
 // image.column_offset is empty.
 void intensity_at_centres(const ProjectedImage& image, cv::Mat& out, cv::Rect within);
+
+// The box around `count` points (x: columns, y: rows); nullopt when one of them is not finite.
+std::optional<cv::Rect2d> box_around(const Vec2* points, std::size_t count);
 
 // The column offsets of the single-point pixels in the box around some corners (projected image
 // coordinates): their mean, and the lowest and highest of the rows' means (all 0 without offsets).
