@@ -43,6 +43,48 @@ std::array<Vec2, 4> sides_moved(const std::array<Vec2, 4>& corners, double left,
   return out;
 }
 
+std::optional<std::array<Vec2, 4>> squared_left_right_sides(const std::array<Vec2, 4>& corners,
+                                                            double column_angle, double row_angle) {
+  const std::array<int, 4> facing = side_facings(corners);
+  // In angle units, where right angles are right.
+  const Vec2 scale(column_angle, row_angle);
+  std::array<Vec2, 4> p;
+  for (std::size_t k = 0; k < 4; ++k) p[k] = corners[k].cwiseProduct(scale);
+  // The top and bottom sides' mean direction, both taken left to right.
+  Vec2 along = Vec2::Zero();
+  int across = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (facing[k] != 0) continue;
+    Vec2 d = p[(k + 1) % 4] - p[k];
+    if (d.x() < 0) d = -d;
+    if (!(d.norm() > 0)) return std::nullopt;
+    along += d.normalized();
+    ++across;
+  }
+  if (across != 2 || !(along.norm() > 0)) return std::nullopt;
+  const Vec2 up(-along.y(), along.x());  // the left and right sides' new direction
+  // Each corner moves along its top or bottom side's line to where the side through its left or
+  // right side's middle, along `up`, meets it.
+  std::array<Vec2, 4> out = p;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (facing[k] == 0) continue;
+    const Vec2 middle = 0.5 * (p[k] + p[(k + 1) % 4]);
+    // Corner k lies on side k - 1, corner k + 1 on side k + 1: both top or bottom sides.
+    for (const std::size_t corner : {k, (k + 1) % 4}) {
+      const std::size_t other = corner == k ? (k + 3) % 4 : (k + 2) % 4;  // its side's far end
+      const Vec2 d = p[corner] - p[other];
+      // other + s d = middle + t up
+      const double det = d.x() * -up.y() - d.y() * -up.x();
+      if (!(std::abs(det) > 1e-12 * d.norm())) return std::nullopt;
+      const Vec2 rhs = middle - p[other];
+      const double s = (rhs.x() * -up.y() - rhs.y() * -up.x()) / det;
+      out[corner] = p[other] + s * d;
+    }
+  }
+  for (Vec2& q : out) q = q.cwiseQuotient(scale);
+  return out;
+}
+
 std::optional<std::array<Vec2, 4>> measured_side_columns(const std::array<Vec2, 4>& corners,
                                                          const ProjectedImage& image,
                                                          const cv::Mat& intensity, double black,

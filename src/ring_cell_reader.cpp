@@ -41,6 +41,17 @@ double median(std::vector<float>& v) {
 
 }  // namespace
 
+double mean_row_spacing(const ImageGeometry& g) {
+  if (g.ring_rows() && g.row_elevation.size() >= 2)
+    return (g.row_elevation.front() - g.row_elevation.back()) /
+           static_cast<double>(g.row_elevation.size() - 1);
+  return g.res_v;
+}
+
+bool columns_are_coarse(const ImageGeometry& g) {
+  return g.res_h > kCoarseColumnsRatio * mean_row_spacing(g);
+}
+
 MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
                              const cv::Mat& intensity, const CellCodeBook& book) {
   const ImageGeometry& g = image.geometry;
@@ -57,6 +68,11 @@ MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const Projec
   if (std::abs(frame.d.dot(z)) > 0.99) return;  // near the zenith: no image up
   frame.up = (z - frame.d.dot(z) * frame.d).normalized();
   frame.right = frame.up.cross(frame.d);
+  if (columns_are_coarse(g)) {  // a quarter turn: (a, b) -> (b, -a), the same rays
+    const Vec3 right = frame.right;
+    frame.right = -frame.up;
+    frame.up = right;
+  }
   const float n = static_cast<float>(book.border_width());
   const std::vector<cv::Point2f> square = {{0, 0}, {n, 0}, {n, n}, {0, n}};
   std::vector<cv::Point2f> quad;

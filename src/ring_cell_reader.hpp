@@ -18,9 +18,24 @@ namespace iilfm::detail {
 struct CellReadOptions;
 struct CellReading;
 
+// Columns are the coarse axis of `g` when they lie more than this many times farther apart than
+// its rows (an OS2-128 at 1024 columns: 0.35 deg columns, 0.18 deg rings).
+inline constexpr double kCoarseColumnsRatio = 1.5;
+
+// The mean angle between neighbouring rows of `g` (its rings' on ring rows).
+double mean_row_spacing(const ImageGeometry& g);
+
+// True when `g`'s columns are much coarser than its rows: a marker's placing is then searched
+// along the image's horizontal instead of its vertical (MarkerSamples).
+bool columns_are_coarse(const ImageGeometry& g);
+
 // The measured pixels around a marker, placed in its plane. The marker's image is modelled in the
 // tangent plane of the LiDAR's view sphere at the marker (a pinhole view, where a planar square
-// maps through a homography), so ring elevations and column azimuths enter exactly.
+// maps through a homography), so ring elevations and column azimuths enter exactly. The plane's
+// "vertical" (b, along which placings shift the top and bottom sides) is the image's coarse axis:
+// its vertical on most spinning LiDARs, its horizontal turned a quarter turn where the columns
+// are the coarse axis (columns_are_coarse): the sides a placing moves are then the right ("top")
+// and left ("bottom") ones, and "down" is to the left.
 class MarkerSamples {
  public:
   MarkerSamples() = default;  // no samples

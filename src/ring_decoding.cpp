@@ -361,14 +361,17 @@ double moved_by(const std::array<Vec2, 4>& a, const std::array<Vec2, 4>& b) {
   return most;
 }
 
-// The narrowest supported family's cells across its black square, the least side a candidate
-// square may have (detector-image pixels) and the detector-image rows a ring spans on average
-// (square pixels stretch the rings apart).
+// The least box a candidate square of the narrowest supported family may have, in detector-image
+// pixels. Along the fine axis it must span kMinCandidatePixelsPerCell samples a cell; along the
+// coarse one (the rings on most spinning LiDARs, the columns where those are coarser) a sample
+// spacing less: the binary image loses the border row or column no sample crossed, and the reader
+// searches where those sides lie.
 struct CandidateSizes {
   int min_cells = 1 << 30;
-  double min_side_px = 0, ring_spacing_px = 0;
-  // As tall as read_quad lets a square be: a ring spacing short of its width.
-  double min_height_px() const { return min_side_px - ring_spacing_px; }
+  double width_px_per_cell = 0, height_px_per_cell = 0;  // the least, along each axis
+  double width_allowance_px = 0, height_allowance_px = 0;
+  double min_width_px(int cells) const { return width_px_per_cell * cells - width_allowance_px; }
+  double min_height_px(int cells) const { return height_px_per_cell * cells - height_allowance_px; }
 };
 
 CandidateSizes candidate_sizes(const std::map<std::string, FamilyCodeBooks>& books,
@@ -376,9 +379,19 @@ CandidateSizes candidate_sizes(const std::map<std::string, FamilyCodeBooks>& boo
   CandidateSizes sizes;
   for (const auto& entry : books)
     sizes.min_cells = std::min(sizes.min_cells, entry.second.all->border_width());
-  sizes.min_side_px = kMinCandidatePixelsPerCell * sizes.min_cells;
-  sizes.ring_spacing_px =
+  // The angle a detector-image row spans (square pixels stretch the rings apart).
+  const double ring_spacing = mean_row_spacing(image.geometry);
+  const double ring_spacing_px =
       static_cast<double>(detect_geometry.height) / std::max(1, image.geometry.height);
+  if (columns_are_coarse(image.geometry)) {
+    const double row_px = ring_spacing / ring_spacing_px;
+    sizes.width_px_per_cell = kMinCandidatePixelsPerCell * ring_spacing / detect_geometry.res_h;
+    sizes.height_px_per_cell = kMinCandidatePixelsPerCell * ring_spacing / row_px;
+    sizes.width_allowance_px = 1;
+  } else {
+    sizes.width_px_per_cell = sizes.height_px_per_cell = kMinCandidatePixelsPerCell;
+    sizes.height_allowance_px = ring_spacing_px;
+  }
   return sizes;
 }
 
@@ -389,7 +402,8 @@ RingDecoder::Quads RingDecoder::candidate_quads(const cv::Mat& detect_gray,
                                                 const ProjectedImage& image) const {
   if (books_.empty() || detect_gray.empty()) return {};
   const CandidateSizes sizes = candidate_sizes(books_, detect_geometry, image);
-  return dark_quads(detect_gray, sizes.min_side_px, sizes.min_cells, sizes.min_height_px());
+  return dark_quads(detect_gray, sizes.min_width_px(sizes.min_cells), sizes.min_cells,
+                    sizes.min_height_px(sizes.min_cells));
 }
 
 void RingDecoder::read_weak_candidate_again(const std::string& family,
@@ -431,11 +445,20 @@ void RingDecoder::read_weak_candidate_again(const std::string& family,
   // false-positive harness more for much the same finds). Each is one more chance to match: the
   // best pays log2 of every reading made, so the chance that any of them matches by chance stays
   // that of one.
+  // Where the columns are the coarse axis the placings moved the left and right sides already:
+  // the top and bottom ones are moved instead (rows are where columns are in the transposed quad).
+  const bool rows = columns_are_coarse(image.geometry);
+  const auto transposed = [](std::array<Vec2, 4> c) {
+    for (Vec2& p : c) std::swap(p.x(), p.y());
+    return c;
+  };
   std::vector<std::array<Vec2, 4>> moved;
   for (int left = -1; left <= 1; ++left)
     for (int right = -1; right <= 1; ++right)
       if (left != 0 || right != 0)
-        moved.push_back(sides_moved(corners_px, left * step, right * step));
+        moved.push_back(
+            rows ? transposed(sides_moved(transposed(corners_px), left * step, right * step))
+                 : sides_moved(corners_px, left * step, right * step));
   const double cost_bits = std::log2(static_cast<double>(readings + moved.size()));
   for (const std::array<Vec2, 4>& corners : moved) read_again(corners, cost_bits, first_shifts);
 }
@@ -449,7 +472,6 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   const CandidateSizes sizes = candidate_sizes(books_, detect_geometry, image);
   const int min_cells = sizes.min_cells;
   const std::size_t before = out.size();
-  const double min_side_px = sizes.min_side_px;
   // A full-circle image's columns one turn apart point the same way: a detection across the seam
   // has columns past the last one.
   const double turn = image.geometry.full_circle() ? image.geometry.columns_per_turn() : 0;
@@ -458,7 +480,7 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
     if (known(centre)) return true;
     return turn > 0 && (known(centre + Vec2(turn, 0)) || known(centre - Vec2(turn, 0)));
   };
-  const double ring_spacing_px = sizes.ring_spacing_px;
+  const bool coarse_columns = columns_are_coarse(image.geometry);
   // Reads a dark quad whose corners are `corners` in `quad_gray` (the detector image, or the strip
   // across its seam) and `detect_corners` in the detector image's continuous coordinates.
   const auto read_quad = [&](const std::vector<Vec2>& corners, const cv::Mat& quad_gray,
@@ -475,20 +497,38 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       double& shortest = std::abs(side.x()) >= std::abs(side.y()) ? narrowest : lowest;
       shortest = std::min(shortest, side.norm());
     }
+    // Where the columns are coarse, the left and right sides squared to the top and bottom ones,
+    // when that moves a corner by a quarter pixel or more.
+    std::optional<std::array<Vec2, 4>> squared =
+        coarse_columns ? squared_left_right_sides(projected, image.geometry.res_h,
+                                                  mean_row_spacing(image.geometry))
+                       : std::nullopt;
+    if (squared && moved_by(*squared, projected) < kMinSideMovePx) squared.reset();
     std::vector<std::pair<const std::string*, RingRead>> reads;
     for (const auto& [family, books] : books_) {
       // Each family's cells must be wide enough (dark_quads took the narrowest family's), to
       // half a pixel: where a side lies is known to about that (an OS1-64's 40 cm tag at 6 m is
       // 10 pixels across, 1.25 a cell, in some placings 9.98).
-      // The height may fall short by a ring spacing more: the binary image loses the top and
-      // bottom border rows no ring crossed, and the reader searches where those sides lie (an
+      // Along the coarse axis it may fall short by a sample spacing more (CandidateSizes: an
       // OS1-64's 1 m tag at 16 m is 10 pixels across and 5 rings, 9.3 pixels, tall).
       const int cells = books.all->border_width();
-      const double min_side = kMinCandidatePixelsPerCell * cells - 0.5;
-      if (narrowest < min_side || lowest < min_side - ring_spacing_px) continue;
+      if (narrowest < sizes.min_width_px(cells) - 0.5 || lowest < sizes.min_height_px(cells) - 0.5)
+        continue;
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
       if (quiet_zone_fraction(quad_gray, corners, cells) < kMinCandidateMargin) continue;
       RingRead r = read(family, projected, image, intensity, true);
+      if (squared && !(r.read && r.decoded.accepted &&
+                       r.decoded.security_bits >= settings_.candidate_min_security_bits)) {
+        // The binary image's left and right outlines are ragged by a column, and a side fitted to
+        // one leans (squared_left_right_sides); the placings move the sides, not turn them. A
+        // second chance to match: it pays one bit.
+        RingRead again = read(family, *squared, image, intensity, true);
+        again.decoded.security_bits -= 1;
+        if (again.read && (!r.read || (again.decoded.accepted &&
+                                       (!r.decoded.accepted ||
+                                        again.decoded.security_bits > r.decoded.security_bits))))
+          r = std::move(again);
+      }
       if (r.read && r.cells.levels_ok &&
           r.decoded.security_bits < settings_.candidate_min_security_bits)
         read_weak_candidate_again(family, projected, image, intensity, r);
@@ -524,7 +564,8 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       seen |= out[i].family == best.family && out[i].id == best.id;
     if (!seen) out.push_back(std::move(best));
   };
-  const double min_height_px = sizes.min_height_px();
+  const double min_width_px = sizes.min_width_px(min_cells),
+               min_height_px = sizes.min_height_px(min_cells);
   std::vector<Vec2> corners, detect_corners;
   for (const std::array<Vec2, 4>& quad : quads) {
     corners.assign(quad.begin(), quad.end());
@@ -539,7 +580,8 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   thread_local cv::Mat strip;
   cut->cut(detect_gray, strip);
   std::vector<Vec2*> keypoints;
-  for (const std::array<Vec2, 4>& quad : dark_quads(strip, min_side_px, min_cells, min_height_px)) {
+  for (const std::array<Vec2, 4>& quad :
+       dark_quads(strip, min_width_px, min_cells, min_height_px)) {
     corners.assign(quad.begin(), quad.end());
     push_edges_outward(corners);
     detect_corners = corners;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <utility>
 
 #include "../../src/candidate_sides.hpp"
 
@@ -100,6 +102,43 @@ TEST(CandidateSides, TheLeftAndRightSidesMoveByTheirOwnShifts) {
   // Starting at the top-left corner gives the same sides, each in its own place.
   const std::array<Vec2, 4> turned = {quad[3], quad[0], quad[1], quad[2]};
   EXPECT_EQ(detail::side_facings(turned), (std::array<int, 4>{0, 1, 0, -1}));
+}
+
+// A quad whose left and right sides lean (fitted to a binary outline ragged by a column): they
+// are turned about their middles to meet the top and bottom sides square, in angle, with columns
+// twice as wide as rows. The top and bottom sides stay on their lines.
+TEST(CandidateSides, LeaningLeftAndRightSidesAreSquaredToTheTopAndBottom) {
+  // Top from (10, 20) to (17, 20.5), bottom from (11, 34) to (18, 34.5): in angle (x2 on the
+  // columns) they run along (14, 0.5); the square's left and right sides run along (-0.5, 14).
+  const std::array<Vec2, 4> quad = {Vec2(10, 20), Vec2(17, 20.5), Vec2(18.5, 34.5), Vec2(11, 34)};
+  const auto squared = detail::squared_left_right_sides(quad, 2.0, 1.0);
+  ASSERT_TRUE(squared);
+  const auto angle = [](const Vec2& p) { return Vec2(2 * p.x(), p.y()); };
+  const std::array<Vec2, 4>& q = *squared;
+  // Each corner on its top or bottom line.
+  const auto on_line = [](const Vec2& p, const Vec2& a, const Vec2& b) {
+    const Vec2 d = b - a, e = p - a;
+    return std::abs(d.x() * e.y() - d.y() * e.x()) / d.norm();
+  };
+  EXPECT_LT(on_line(q[0], quad[0], quad[1]), 1e-9);
+  EXPECT_LT(on_line(q[1], quad[0], quad[1]), 1e-9);
+  EXPECT_LT(on_line(q[2], quad[3], quad[2]), 1e-9);
+  EXPECT_LT(on_line(q[3], quad[3], quad[2]), 1e-9);
+  // Left and right sides at right angles to the top, in angle, through the old sides' middles.
+  const Vec2 top = (angle(quad[1]) - angle(quad[0])).normalized();
+  for (const auto& [a, b] : {std::pair{1, 2}, std::pair{3, 0}}) {
+    const Vec2 side = angle(q[static_cast<std::size_t>(b)]) - angle(q[static_cast<std::size_t>(a)]);
+    EXPECT_NEAR(side.normalized().dot(top), 0.0, 0.03) << "side " << a;
+    const Vec2 old_middle =
+        0.5 * (quad[static_cast<std::size_t>(a)] + quad[static_cast<std::size_t>(b)]);
+    EXPECT_LT(on_line(old_middle, q[static_cast<std::size_t>(a)], q[static_cast<std::size_t>(b)]),
+              1e-9);
+  }
+  // The right side leaned 1.5 columns over 14 rows: now its ends lie within a third of that.
+  EXPECT_LT(std::abs(q[2].x() - q[1].x()), 0.5);
+  // No top and bottom pair: nothing.
+  EXPECT_FALSE(
+      detail::squared_left_right_sides({Vec2(0, 0), Vec2(1, 0), Vec2(1, 0), Vec2(0, 0)}, 2.0, 1.0));
 }
 
 }  // namespace

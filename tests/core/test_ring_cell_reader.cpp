@@ -17,20 +17,21 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 // A tag36h11 of black-square edge `size` facing a LiDAR `distance` ahead (plane x = distance),
-// its centre `z0` above the sensor, seen by `rings` rings `ring_deg` apart and 0.2 deg columns.
+// its centre `z0` above the sensor, seen by `rings` rings `ring_deg` apart and `column_deg`
+// columns.
 struct RingScene {
   ProjectedImage image;
   std::array<Vec2, 4> corners;  // black square, TL TR BR BL
   int id = 0;
 
   RingScene(int tag_id, double size, double distance, int rings, double ring_deg, double z0,
-            double white = 100, double black = 10)
+            double white = 100, double black = 10, double column_deg = 0.2)
       : id(tag_id) {
     const AprilTagImage print = render_apriltag("tag36h11", id);
     const double cell = size / print.width_at_border;
     const double half_print = 0.5 * cell * print.total_width;
     ImageGeometry& g = image.geometry;
-    g.res_h = 0.2 * kDeg;
+    g.res_h = column_deg * kDeg;
     g.width = 200;
     g.u0 = 100;
     g.height = rings;
@@ -145,6 +146,53 @@ TEST(RingDecoder, FindsTheVerticalShiftOfCornersOffByHalfARing) {
   EXPECT_EQ((r.cells.bits.white ^ book->code(7, 0)) & r.cells.bits.known, 0u);
   EXPECT_GT(popcount(r.cells.bits.known), 0);
   EXPECT_LT(r.shift_top, 0);  // moved back up
+}
+
+// Where the columns are the coarse axis (an OS2-128 at 1024 columns: 0.35 deg columns, 0.177 deg
+// rings), the placings move the sides along the rows: corners 0.4 column right of a 17 cm tag at
+// 3.8 m (0.9 column a cell) are pulled back left, and the reading makes no error.
+TEST(RingDecoder, FindsTheHorizontalShiftWhereColumnsAreCoarse) {
+  const RingScene scene(7, 0.172, 3.8, 48, 0.177, 0.0, 100, 10, 0.3516);
+  EXPECT_TRUE(columns_are_coarse(scene.image.geometry));
+  const RingDecoder decoder({"apriltag:tag36h11"}, RingDecodeSettings{});
+  const auto book = CellCodeBook::for_family("apriltag:tag36h11");
+  // Read as a ring candidate (the cells' middle 90 %): at 0.9 columns a cell a detection's middle
+  // 60 % leaves most cells without a sample.
+  const RingRead exact =
+      decoder.read("apriltag:tag36h11", scene.corners, scene.image, scene.image.intensity, true);
+  ASSERT_TRUE(exact.read);
+  EXPECT_TRUE(exact.decoded.accepted);
+  EXPECT_EQ(exact.decoded.id, 7);
+  std::array<Vec2, 4> off = scene.corners;
+  for (Vec2& c : off) c.x() += 0.4;
+  const RingRead r =
+      decoder.read("apriltag:tag36h11", off, scene.image, scene.image.intensity, true);
+  ASSERT_TRUE(r.read);
+  EXPECT_EQ((r.cells.bits.white ^ book->code(7, 0)) & r.cells.bits.known, 0u);
+  EXPECT_GE(popcount(r.cells.bits.known), 24);
+  // Measured: 24 bits known and read right, 8.6 chance-match bits at the placing chosen (a
+  // candidate wants 12 and is read again with its sides moved; exact corners read 30 bits).
+  EXPECT_EQ(r.decoded.id, 7);
+  EXPECT_EQ(r.decoded.errors, 0);
+  // Pulled back left: the corners it reports lie nearer the true ones than those given.
+  for (std::size_t k = 0; k < 4; ++k)
+    EXPECT_LT(std::abs(r.corners_px[k].x() - scene.corners[k].x()), 0.25) << "corner " << k;
+}
+
+TEST(RingDecoder, ColumnsAreCoarseOnlyWhereMuchCoarserThanTheRows) {
+  const auto geometry = [](double column_deg, double ring_deg) {
+    ImageGeometry g;
+    g.res_h = column_deg * kDeg;
+    g.width = 100;
+    g.height = 16;
+    for (int r = 0; r < g.height; ++r) g.row_elevation.push_back((7.5 - r) * ring_deg * kDeg);
+    g.res_v = ring_deg * kDeg;
+    return g;
+  };
+  EXPECT_TRUE(columns_are_coarse(geometry(0.3516, 0.1772)));   // OS2-128, 1024 columns
+  EXPECT_FALSE(columns_are_coarse(geometry(0.3516, 0.3571)));  // OS2-64
+  EXPECT_FALSE(columns_are_coarse(geometry(0.2, 2.0)));        // VLP-16
+  EXPECT_NEAR(mean_row_spacing(geometry(0.2, 2.0)), 2.0 * kDeg, 1e-12);
 }
 
 // The corners as given (variant 0), off by part of a pixel and listed from the top-right corner

@@ -53,6 +53,22 @@ TEST(DetectionRange, Vlp16FortyCentimetreTagIsRingLimited) {
   EXPECT_EQ(r[0].false_positives, 0);
 }
 
+// An OS2-128 at 1024 columns has columns twice as coarse as its rings: a 17 cm tag36h11 at 4 m
+// spans 7 columns for its 8 cells. AprilTag reads it to 3.5 m (8 columns) and the paper settings
+// to 2.5 m; the ring candidates read it at 4 m, their placings moving its left and right sides.
+TEST(DetectionRange, Os2128SeventeenCentimetreTagAtFourMetres) {
+  RangeQuery query;
+  query.sensor = "os2-128";
+  query.marker_size_m = 0.172;
+  query.distances = {4.0};
+  const std::vector<RangeResult> r = detection_range(query, {RangeSettings::kIilfm});
+  ASSERT_EQ(r.size(), 1u);
+  ASSERT_EQ(r[0].found.size(), 1u);
+  // Measured: 10 of 10 (0 of 10 before the placings moved along the coarse columns).
+  EXPECT_GE(r[0].found[0].second, query.required);
+  EXPECT_EQ(r[0].false_positives, 0);
+}
+
 // The HDL-32E's field runs from -30.67 to +10.67 deg: level with it, a 1 m tag 2 m away reaches
 // 14 deg up and is clipped. The walk tilts the LiDAR up so the marker sits mid-field.
 TEST(DetectionRange, AimsTheMiddleOfADownLookingFieldAtTheMarker) {
