@@ -39,7 +39,8 @@ struct RingDecodeSettings {
   // A candidate still read too weakly after its measured sides is read again with its left and
   // right sides each moved by -1, 0 or +1 times this many pixels (eight more readings, which pay
   // log2 of all readings made): at 1.3-1.5 columns a cell, which columns fall in which cell flips
-  // within a fraction of a pixel. 0: not done.
+  // within a fraction of a pixel. Where the columns are coarse (columns_are_coarse), its top and
+  // bottom sides instead. 0: not done.
   double candidate_side_step_px = 0.5;
   // ... when the first reading has at least this many chance-match bits.
   double candidate_side_min_bits = 0;
