@@ -517,6 +517,7 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
       // Most dark blobs in a scene are not on white paper: a cheap look at the margin first.
       if (quiet_zone_fraction(quad_gray, corners, cells) < kMinCandidateMargin) continue;
       RingRead r = read(family, projected, image, intensity, true);
+      const std::array<Vec2, 4>* read_at = &projected;  // the corners r was read at
       if (squared && !(r.read && r.decoded.accepted &&
                        r.decoded.security_bits >= settings_.candidate_min_security_bits)) {
         // The binary image's left and right outlines are ragged by a column, and a side fitted to
@@ -526,12 +527,14 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
         again.decoded.security_bits -= 1;
         if (again.read && (!r.read || (again.decoded.accepted &&
                                        (!r.decoded.accepted ||
-                                        again.decoded.security_bits > r.decoded.security_bits))))
+                                        again.decoded.security_bits > r.decoded.security_bits)))) {
           r = std::move(again);
+          read_at = &*squared;
+        }
       }
       if (r.read && r.cells.levels_ok &&
           r.decoded.security_bits < settings_.candidate_min_security_bits)
-        read_weak_candidate_again(family, projected, image, intensity, r);
+        read_weak_candidate_again(family, *read_at, image, intensity, r);
       if (r.read) reads.emplace_back(&family, std::move(r));
     }
     // Every family whose fixed cells fit the square is one more try at a chance match: a
