@@ -169,22 +169,45 @@ SensorModel hdl64e() {
   return s;
 }
 
+SensorModel os1_32() { return ouster("os1-32", 32, 1024, 45); }
 SensorModel os1_64() { return ouster("os1-64", 64, 1024, 45); }
 SensorModel os1_128() { return ouster("os1-128", 128, 2048, 45); }
 
+namespace {
+
 // OS0 (90 deg) and OS2 (22.5 deg): the OS1's optics over another field of view. Their beam
-// divergence is taken as the OS1's scaled by the field (the same ring pitch in beam widths).
-SensorModel os0_128() {
-  SensorModel s = ouster("os0-128", 128, 1024, 90);
+// divergence is taken as the OS1's scaled by the field (the same ring pitch in beam widths), the
+// same for every channel count of a family (the 32- and 64-channel units leave rings out).
+SensorModel ouster_os0(const std::string& name, int rings) {
+  SensorModel s = ouster(name, rings, 1024, 90);
   s.divergence_h_deg = s.divergence_v_deg = 2 * kOusterDivergenceDeg;
   s.max_range_m = 50;
   return s;
 }
 
-SensorModel os2_128() {
-  SensorModel s = ouster("os2-128", 128, 1024, 22.5);
+SensorModel ouster_os2(const std::string& name, int rings) {
+  SensorModel s = ouster(name, rings, 1024, 22.5);
   s.divergence_h_deg = s.divergence_v_deg = kOusterDivergenceDeg / 2;
   s.max_range_m = 240;
+  return s;
+}
+
+}  // namespace
+
+SensorModel os0_32() { return ouster_os0("os0-32", 32); }
+SensorModel os0_64() { return ouster_os0("os0-64", 64); }
+SensorModel os0_128() { return ouster_os0("os0-128", 128); }
+SensorModel os2_32() { return ouster_os2("os2-32", 32); }
+SensorModel os2_64() { return ouster_os2("os2-64", 64); }
+SensorModel os2_128() { return ouster_os2("os2-128", 128); }
+
+// RS-LiDAR-16 user guide: 16 channels 2 deg apart from -15 to +15 deg, 0.2 deg columns at 10 Hz,
+// 150 m range, +-2 cm accuracy. Its firing order is not modelled (samples on the column grid) and
+// its divergence is taken as the Velodynes'.
+SensorModel rs16() {
+  SensorModel s = velodyne("rs16", uniform_rings(16, -15, 15));
+  s.range_sigma_m = 0.02;
+  s.max_range_m = 150;
   return s;
 }
 
@@ -264,6 +287,12 @@ constexpr NamedModel kModels[] = {
     {"os2-128", os2_128},
     {"xt32", xt32},
     {"pandar40p", pandar40p},
+    {"os0-32", os0_32},
+    {"os0-64", os0_64},
+    {"os1-32", os1_32},
+    {"os2-32", os2_32},
+    {"os2-64", os2_64},
+    {"rs16", rs16},
 };
 
 }  // namespace

@@ -58,6 +58,14 @@ SensorModel os0_128();      // Ouster OS0-128: 128 uniform rings over 90 deg, 10
 SensorModel os2_128();      // Ouster OS2-128: 128 uniform rings over 22.5 deg, 1024 columns
 SensorModel xt32();         // Hesai PandarXT-32: 32 rings -16..+15 deg, 0.18 deg, Hesai's scale
 SensorModel pandar40p();    // Hesai Pandar40P: 40 rings -25..+15 deg, 1/3 deg around the horizon
+// The other Ouster units (32 or 64 uniform rings over their family's field, 1024 columns) and the
+// RoboSense RS-LiDAR-16 (16 rings -15..+15 deg, 0.2 deg columns).
+SensorModel os0_32();
+SensorModel os0_64();
+SensorModel os1_32();
+SensorModel os2_32();
+SensorModel os2_64();
+SensorModel rs16();
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
