@@ -119,6 +119,12 @@ class Result:
     @property
     def mask(self) -> npt.NDArray[np.uint8]: ...
     @property
+    def column_offset_image(self) -> npt.NDArray[np.float32] | None:
+        """Where each single-point pixel's sample lies, in columns right of its centre.
+
+        0 for other pixels; None when every ring lies on the column grid, and for uniform rows.
+        """
+    @property
     def index_image(self) -> npt.NDArray[np.int32]: ...
     @property
     def gray_image(self) -> npt.NDArray[np.uint8]: ...

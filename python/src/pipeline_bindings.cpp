@@ -115,9 +115,10 @@ PipelineOptions pipeline_options(const Options& a) {
 // A frame result that outlives the pipeline's reused buffers: every image is cloned.
 std::shared_ptr<FrameResult> detached(const FrameResult& r) {
   auto copy = std::make_shared<FrameResult>(r);
-  for (cv::Mat* m : {&copy->image.intensity, &copy->image.range, &copy->image.mask,
-                     &copy->image.index, &copy->image.count, &copy->preprocessed.gray,
-                     &copy->preprocessed.detect, &copy->preprocessed.valid})
+  for (cv::Mat* m :
+       {&copy->image.intensity, &copy->image.range, &copy->image.mask, &copy->image.index,
+        &copy->image.count, &copy->preprocessed.gray, &copy->preprocessed.detect,
+        &copy->preprocessed.valid, &copy->image.column_offset})
     *m = m->clone();
   return copy;
 }
@@ -413,6 +414,16 @@ void register_pipeline(py::module_& m) {
           "mask",
           [](py::object self) { return mat_view(self.cast<Result&>().frame->image.mask, self); },
           "(H, W) uint8, 255 where a point fell")
+      .def_property_readonly(
+          "column_offset_image",
+          [](py::object self) -> py::object {
+            const cv::Mat& offsets = self.cast<Result&>().frame->image.column_offset;
+            if (offsets.empty()) return py::none();
+            return mat_view(offsets, self);
+          },
+          "(H, W) float32: where each single-point pixel's sample lies, in columns right of "
+          "its centre (a spinning LiDAR's rings fire off the column grid); 0 for other pixels. "
+          "None when every ring lies on the grid, and for uniform rows")
       .def_property_readonly("index_image", &index_image,
                              "(H, W) int32 row of the input point of each pixel, -1 where none")
       .def_property_readonly(

@@ -85,3 +85,33 @@ def test_print_above_the_presets_threshold_is_found_at_otsus_unless_the_threshol
     kept = iilfm.Pipeline(sensor="vlp16", map=str(marker_map), threshold=40).detect(xyzi)
     assert kept.markers == [] and kept.threshold == 40
     assert "threshold_retry" not in kept.to_json()["image"]
+
+
+def test_column_offsets_say_where_rings_fired_off_the_grid():
+    # A VLP-16 fires its 16 lasers microseconds apart: each ring's samples lie a ring's own
+    # fraction of a column off the grid (docs/simulator.md).
+    cloud, _ = iilfm.simulate(scene="tag-wall", sensor="vlp16", distance=3, seed=3)
+    pipeline = iilfm.Pipeline(sensor="vlp16")
+    result = pipeline.detect(cloud)
+    offsets = result.column_offset_image
+    assert offsets is not None
+    assert offsets.shape == result.mask.shape and offsets.dtype == np.float32
+    assert not offsets.flags.writeable
+    assert np.all(offsets[result.mask == 0] == 0)
+    assert np.abs(offsets).max() <= 0.5
+    rows = [row[row != 0] for row in offsets]
+    medians = [float(np.median(r)) for r in rows if len(r) > 100]
+    assert len(medians) >= 12
+    assert max(medians) - min(medians) > 0.2
+    # Within a ring the offset is the ring's own (half a column off reads as -0.5 or +0.5).
+    for r in rows:
+        if len(r) > 100:
+            spread = r - np.median(r)
+            assert np.percentile(np.abs(spread - np.round(spread)), 90) < 0.01
+    # The image belongs to the result: the pipeline's next frame does not change it.
+    before = offsets.copy()
+    pipeline.detect(iilfm.simulate(scene="tag-wall", sensor="vlp16", distance=5, seed=4)[0])
+    np.testing.assert_array_equal(offsets, before)
+    # A Livox scan has uniform rows: no offsets.
+    cloud, _ = iilfm.simulate(frames=1, seed=2)
+    assert iilfm.Pipeline(sensor="mid40").detect(cloud).column_offset_image is None
