@@ -255,6 +255,33 @@ SensorModel pandar40p() {
   return s;
 }
 
+// Pandar64: 64 channels from -25 to +15 deg, 1/6 deg apart from -6 to +2 deg, 0.2 deg columns at
+// 10 Hz, 0.3-200 m, +-2 cm accuracy (user manual). The elevations and the samples' places within
+// a column are those of the bundled real frames (../shared/data/real/opencalib_jointcalib_pandar64:
+// each ring's median elevation, and where its samples lie in a 0.2 deg column, the same for every
+// point of a ring: the maker's per-channel horizontal offsets modulo a column). Divergence as the
+// XT32's.
+SensorModel pandar64() {
+  std::vector<double> rings = {-24.897, -18.889, -13.93, -12.974, -12.006, -11.032, -9.885,
+                               -9.06,   -8.059,  -7.063, -6.061};
+  for (int k = 0; k < 48; ++k) rings.push_back(-5.898 + k * (2.028 + 5.898) / 47);
+  for (const double e : {3.04, 5.057, 8.059, 11.032, 14.882}) rings.push_back(e);
+  SensorModel s = velodyne("pandar64", std::move(rings), 0.2);
+  // The place of the samples in a column: 0.21 of a column outside the dense band, and in turn
+  // 0.625, 0.04, 0.96, 0.375, 0.79, 0.21 up the band from its lowest ring.
+  constexpr double kBandPlaces[6] = {0.625, 0.04, 0.96, 0.375, 0.79, 0.21};
+  for (std::size_t r = 0; r < s.ring_elevations_deg.size(); ++r) {
+    const bool band = r >= 11 && r < 59;
+    const double place = band ? kBandPlaces[(r - 11) % 6] : 0.21;
+    s.ring_azimuth_offsets_deg.push_back(place * s.azimuth_step_deg);
+  }
+  s.range_sigma_m = 0.02;
+  s.min_range_m = 0.3;
+  s.max_range_m = 200;
+  s.intensity_curve = hesai_intensity_curve();
+  return s;
+}
+
 double reported_intensity(const SensorModel& sensor, double intensity) {
   const auto& curve = sensor.intensity_curve;
   if (curve.size() < 2) return std::max(0.0, intensity);
@@ -293,6 +320,7 @@ constexpr NamedModel kModels[] = {
     {"os2-32", os2_32},
     {"os2-64", os2_64},
     {"rs16", rs16},
+    {"pandar64", pandar64},
 };
 
 }  // namespace

@@ -66,6 +66,8 @@ SensorModel os1_32();
 SensorModel os2_32();
 SensorModel os2_64();
 SensorModel rs16();
+// Hesai Pandar64: 64 rings -25..+15 deg, 1/6 deg from -6 to +2 deg, as the bundled real frames.
+SensorModel pandar64();
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
