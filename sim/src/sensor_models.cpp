@@ -262,18 +262,23 @@ SensorModel pandar40p() {
 // point of a ring: the maker's per-channel horizontal offsets modulo a column). Divergence as the
 // XT32's.
 SensorModel pandar64() {
-  std::vector<double> rings = {-24.897, -18.889, -13.93, -12.974, -12.006, -11.032, -9.885,
-                               -9.06,   -8.059,  -7.063, -6.061};
-  for (int k = 0; k < 48; ++k) rings.push_back(-5.898 + k * (2.028 + 5.898) / 47);
-  for (const double e : {3.04, 5.057, 8.059, 11.032, 14.882}) rings.push_back(e);
-  SensorModel s = velodyne("pandar64", std::move(rings), 0.2);
-  // The place of the samples in a column: 0.21 of a column outside the dense band, and in turn
-  // 0.625, 0.04, 0.96, 0.375, 0.79, 0.21 up the band from its lowest ring.
+  SensorModel s = velodyne(
+      "pandar64",
+      {-24.897, -18.889, -13.93, -12.974, -12.006, -11.032, -9.885, -9.06,  -8.059, -7.063, -6.061,
+       -5.898,  -5.726,  -5.565, -5.391,  -5.229,  -5.057,  -4.892, -4.72,  -4.558, -4.385, -4.221,
+       -4.05,   -3.884,  -3.712, -3.548,  -3.375,  -3.21,   -3.04,  -2.873, -2.7,   -2.536, -2.365,
+       -2.198,  -2.028,  -1.86,  -1.688,  -1.522,  -1.351,  -1.184, -1.013, -0.845, -0.675, -0.508,
+       -0.337,  -0.169,  0.0,    0.169,   0.337,   0.508,   0.675,  0.846,  1.013,  1.184,  1.351,
+       1.522,   1.688,   1.86,   2.028,   3.04,    5.057,   8.059,  11.032, 14.882},
+      0.2);
+  // The place of the samples in a column (azimuth / 0.2 deg, modulo 1): 0.21 outside the dense
+  // band, and in turn 0.625, 0.04, 0.96, 0.375, 0.79, 0.21 up the band from its lowest ring. The
+  // simulated columns lie on whole multiples of 0.2 deg and a ring's offset turns it clockwise.
   constexpr double kBandPlaces[6] = {0.625, 0.04, 0.96, 0.375, 0.79, 0.21};
   for (std::size_t r = 0; r < s.ring_elevations_deg.size(); ++r) {
     const bool band = r >= 11 && r < 59;
     const double place = band ? kBandPlaces[(r - 11) % 6] : 0.21;
-    s.ring_azimuth_offsets_deg.push_back(place * s.azimuth_step_deg);
+    s.ring_azimuth_offsets_deg.push_back(-place * s.azimuth_step_deg);
   }
   s.range_sigma_m = 0.02;
   s.min_range_m = 0.3;

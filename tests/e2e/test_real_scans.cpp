@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <complex>
 #include <filesystem>
+#include <vector>
 
+#include "iilfm/eval/case.hpp"
 #include "iilfm/io/cloud_io.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/sensor.hpp"
@@ -72,6 +76,54 @@ TEST(RealScans, Pandar64BoardProjectsStraightAhead) {
         ++near_board;
     }
   EXPECT_GT(near_board, 5);
+}
+
+// Per ring (the cloud's ring field, 0 the lowest): the median elevation (deg) and where the
+// samples lie in a 0.2 deg column (circular mean of the azimuth's fraction of a column).
+struct RingLayout {
+  std::vector<double> elevation_deg, place_in_column;
+};
+
+RingLayout ring_layout(const PointCloud& cloud, std::size_t rings) {
+  std::vector<std::vector<double>> elevations(rings);
+  std::vector<std::complex<double>> places(rings);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.ring[i] >= rings) continue;
+    const double x = cloud.x[i], y = cloud.y[i], z = cloud.z[i];
+    elevations[cloud.ring[i]].push_back(std::atan2(z, std::hypot(x, y)) * 180 / M_PI);
+    const double column = std::atan2(y, x) * 180 / M_PI / 0.2;
+    places[cloud.ring[i]] += std::polar(1.0, 2 * M_PI * (column - std::floor(column)));
+  }
+  RingLayout layout;
+  for (std::size_t r = 0; r < rings; ++r) {
+    std::vector<double>& e = elevations[r];
+    if (e.empty()) return {};
+    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(e.size() / 2), e.end());
+    layout.elevation_deg.push_back(e[e.size() / 2]);
+    const double turn = std::arg(places[r]) / (2 * M_PI);
+    layout.place_in_column.push_back(turn - std::floor(turn));
+  }
+  return layout;
+}
+
+// The simulated Pandar64 (docs/simulator.md) lays out its rings as the real frames do: the same
+// elevation within 0.01 deg and, ring by ring, the same place in a column relative to the lowest
+// ring's within 0.01 column (where the columns start is the encoder's choice).
+TEST(RealScans, SimulatedPandar64LaysOutItsRingsAsTheRealFrames) {
+  const auto scans = pandar64_scans();
+  if (scans.empty()) GTEST_SKIP() << "no real data at " << kRealData;
+  const RingLayout real = ring_layout(io::read_cloud(scans.front().string()).cloud, 64);
+  const eval::SimulatedCase c = eval::simulate_case(eval::tag_wall_spec("pandar64", 3.0, 1.0), 1);
+  ASSERT_TRUE(c.scan.cloud.has_ring());
+  const RingLayout simulated = ring_layout(c.scan.cloud, 64);
+  ASSERT_EQ(real.elevation_deg.size(), 64u);
+  ASSERT_EQ(simulated.elevation_deg.size(), 64u);
+  for (std::size_t r = 0; r < 64; ++r) {
+    EXPECT_NEAR(simulated.elevation_deg[r], real.elevation_deg[r], 0.01) << "ring " << r;
+    const double relative = (simulated.place_in_column[r] - simulated.place_in_column[0]) -
+                            (real.place_in_column[r] - real.place_in_column[0]);
+    EXPECT_LT(std::abs(relative - std::round(relative)), 0.01) << "ring " << r;
+  }
 }
 
 }  // namespace
