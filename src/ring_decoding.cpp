@@ -344,7 +344,8 @@ namespace {
 // missing where no ring crossed it (quiet_zone_fraction, detectors/aruco_detector.hpp).
 constexpr double kMinCandidateMargin = 0.5;
 
-// Candidates narrower than this many detector-image pixels a cell are not read. The cells are read
+// Candidates spanning fewer than this many samples a cell along the image's fine axis (its columns,
+// unless they are the coarse one: CandidateSizes) are not read. The cells are read
 // from the samples at their own azimuths and elevations, so 1.6 columns a cell still decode (a 40
 // cm tag36h11 at 5 m on an OS1-64 at 1024 columns spans 13 columns: 25 of 50 seeds found, 12 with
 // 2 pixels a cell; its 1 m tag at 12 m 21 of 30, 3 before), and with the map's id known 1.25 do
