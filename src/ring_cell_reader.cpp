@@ -41,16 +41,7 @@ double median(std::vector<float>& v) {
 
 }  // namespace
 
-double mean_row_spacing(const ImageGeometry& g) {
-  if (g.ring_rows() && g.row_elevation.size() >= 2)
-    return (g.row_elevation.front() - g.row_elevation.back()) /
-           static_cast<double>(g.row_elevation.size() - 1);
-  return g.res_v;
-}
-
-bool columns_are_coarse(const ImageGeometry& g) {
-  return g.res_h > kCoarseColumnsRatio * mean_row_spacing(g);
-}
+bool columns_are_coarse(const ImageGeometry& g) { return g.res_h > kCoarseColumnsRatio * g.res_v; }
 
 MarkerSamples::MarkerSamples(const std::array<Vec2, 4>& corners_px, const ProjectedImage& image,
                              const cv::Mat& intensity, const CellCodeBook& book) {

@@ -22,10 +22,8 @@ struct CellReading;
 // its rows (an OS2-128 at 1024 columns: 0.35 deg columns, 0.18 deg rings).
 inline constexpr double kCoarseColumnsRatio = 1.5;
 
-// The mean angle between neighbouring rows of `g` (its rings' on ring rows).
-double mean_row_spacing(const ImageGeometry& g);
-
-// True when `g`'s columns are much coarser than its rows: a marker's placing is then searched
+// True when `g`'s columns are much coarser than its rows (res_v, the mean ring spacing on ring
+// rows): a marker's placing is then searched
 // along the image's horizontal instead of its vertical (MarkerSamples).
 bool columns_are_coarse(const ImageGeometry& g);
 

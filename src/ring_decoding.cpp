@@ -380,14 +380,14 @@ CandidateSizes candidate_sizes(const std::map<std::string, FamilyCodeBooks>& boo
   CandidateSizes sizes;
   for (const auto& entry : books)
     sizes.min_cells = std::min(sizes.min_cells, entry.second.all->border_width());
-  // The angle a detector-image row spans (square pixels stretch the rings apart).
-  const double ring_spacing = mean_row_spacing(image.geometry);
+  // The detector-image rows a ring spans on average (square pixels stretch the rings apart).
   const double ring_spacing_px =
       static_cast<double>(detect_geometry.height) / std::max(1, image.geometry.height);
   if (columns_are_coarse(image.geometry)) {
-    const double row_px = ring_spacing / ring_spacing_px;
-    sizes.width_px_per_cell = kMinCandidatePixelsPerCell * ring_spacing / detect_geometry.res_h;
-    sizes.height_px_per_cell = kMinCandidatePixelsPerCell * ring_spacing / row_px;
+    // Samples a cell along the rings' spacing (res_v: the mean on ring rows).
+    sizes.width_px_per_cell =
+        kMinCandidatePixelsPerCell * image.geometry.res_v / detect_geometry.res_h;
+    sizes.height_px_per_cell = kMinCandidatePixelsPerCell * ring_spacing_px;
     sizes.width_allowance_px = 1;
   } else {
     sizes.width_px_per_cell = sizes.height_px_per_cell = kMinCandidatePixelsPerCell;
@@ -501,9 +501,9 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
     // Where the columns are coarse, the left and right sides squared to the top and bottom ones,
     // when that moves a corner by a quarter pixel or more.
     std::optional<std::array<Vec2, 4>> squared =
-        coarse_columns ? squared_left_right_sides(projected, image.geometry.res_h,
-                                                  mean_row_spacing(image.geometry))
-                       : std::nullopt;
+        coarse_columns
+            ? squared_left_right_sides(projected, image.geometry.res_h, image.geometry.res_v)
+            : std::nullopt;
     if (squared && moved_by(*squared, projected) < kMinSideMovePx) squared.reset();
     std::vector<std::pair<const std::string*, RingRead>> reads;
     for (const auto& [family, books] : books_) {

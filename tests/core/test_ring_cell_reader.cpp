@@ -192,7 +192,6 @@ TEST(RingDecoder, ColumnsAreCoarseOnlyWhereMuchCoarserThanTheRows) {
   EXPECT_TRUE(columns_are_coarse(geometry(0.3516, 0.1772)));   // OS2-128, 1024 columns
   EXPECT_FALSE(columns_are_coarse(geometry(0.3516, 0.3571)));  // OS2-64
   EXPECT_FALSE(columns_are_coarse(geometry(0.2, 2.0)));        // VLP-16
-  EXPECT_NEAR(mean_row_spacing(geometry(0.2, 2.0)), 2.0 * kDeg, 1e-12);
 }
 
 // The corners as given (variant 0), off by part of a pixel and listed from the top-right corner
