@@ -287,6 +287,36 @@ SensorModel pandar64() {
   return s;
 }
 
+// PandarQT64 user manual: 64 channels over -52.1..+52.1 deg, finer near the horizon (1.45 deg)
+// than at the edges (2.3 deg), 0.6 deg columns at 10 Hz (600 a sweep, 384 000 points/s), 0.1-60 m,
+// +-3 cm accuracy. Elevations and horizontal offsets (four blocks of 16 channels, 5-9 deg either
+// side of the column) as in the maker's default angle-correction table, lowest channel first.
+// Divergence as the XT32's.
+SensorModel qt64() {
+  SensorModel s = velodyne(
+      "qt64",
+      {-52.121, -49.785, -47.577, -45.477, -43.465, -41.528, -39.653, -37.831, -36.055, -34.320,
+       -32.619, -30.950, -29.308, -27.690, -26.094, -24.517, -22.964, -21.420, -19.889, -18.372,
+       -16.865, -15.368, -13.880, -12.399, -10.925, -9.457,  -7.994,  -6.535,  -5.079,  -3.626,
+       -2.175,  -0.725,  0.725,   2.175,   3.626,   5.079,   6.534,   7.993,   9.456,   10.923,
+       12.397,  13.877,  15.365,  16.861,  18.368,  19.885,  21.415,  22.959,  24.524,  26.101,
+       27.697,  29.315,  30.957,  32.627,  34.328,  36.064,  37.840,  39.662,  41.537,  43.475,
+       45.487,  47.587,  49.795,  52.133},
+      0.6);
+  s.ring_azimuth_offsets_deg = {
+      8.736,  8.314,  7.964,  7.669,  7.417,  7.198,  7.007,  6.838,  6.688,  6.554,  6.434,
+      6.326,  6.228,  6.140,  6.059,  5.987,  -5.270, -5.216, -5.167, -5.123, -5.083, -5.047,
+      -5.016, -4.988, -4.963, -4.942, -4.924, -4.910, -4.898, -4.889, -4.884, -4.881, 5.493,
+      5.496,  5.502,  5.512,  5.525,  5.541,  5.561,  5.584,  5.611,  5.642,  5.676,  5.716,
+      5.759,  5.808,  5.862,  5.921,  -5.330, -5.396, -5.469, -5.550, -5.640, -5.740, -5.850,
+      -5.974, -6.113, -6.269, -6.447, -6.651, -6.887, -7.163, -7.493, -7.892};
+  s.range_sigma_m = 0.03;
+  s.min_range_m = 0.1;
+  s.max_range_m = 60;
+  s.intensity_curve = hesai_intensity_curve();
+  return s;
+}
+
 double reported_intensity(const SensorModel& sensor, double intensity) {
   const auto& curve = sensor.intensity_curve;
   if (curve.size() < 2) return std::max(0.0, intensity);
@@ -326,6 +356,7 @@ constexpr NamedModel kModels[] = {
     {"os2-64", os2_64},
     {"rs16", rs16},
     {"pandar64", pandar64},
+    {"qt64", qt64},
 };
 
 }  // namespace

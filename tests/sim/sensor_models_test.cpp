@@ -121,6 +121,29 @@ TEST(SensorModels, HesaiPandar40PPacksAThirdOfADegreeAroundTheHorizon) {
   EXPECT_EQ(s.intensity_curve, xt32().intensity_curve);
 }
 
+// The QT64's rings are 1.45 deg apart at the horizon and widen to 2.34 deg at the field's edges;
+// its channels point 5-9 deg either side of their column, in four blocks of 16.
+TEST(SensorModels, HesaiQt64WidensItsRingsAwayFromTheHorizon) {
+  const SensorModel s = qt64();
+  const std::vector<double>& rings = s.ring_elevations_deg;
+  ASSERT_EQ(rings.size(), 64u);
+  EXPECT_NEAR(rings.front(), -52.1, 0.05);
+  EXPECT_NEAR(rings.back(), 52.1, 0.05);
+  for (std::size_t r = 2; r < 32; ++r)  // the spacing shrinks from the bottom edge to the horizon
+    ASSERT_LT(rings[r] - rings[r - 1], rings[r - 1] - rings[r - 2]) << r;
+  EXPECT_NEAR(rings[32] - rings[31], 1.45, 0.01);
+  EXPECT_NEAR(rings[1] - rings[0], 2.34, 0.01);
+  ASSERT_EQ(s.ring_azimuth_offsets_deg.size(), 64u);
+  for (std::size_t r = 0; r < 64; ++r) {
+    const double offset = s.ring_azimuth_offsets_deg[r];
+    EXPECT_GT(std::abs(offset), 4.8) << r;
+    EXPECT_LT(std::abs(offset), 9) << r;
+    EXPECT_EQ(offset > 0, (r / 16) % 2 == 0) << r;
+  }
+  EXPECT_EQ(points_per_frame(s), 64 * 600);
+  EXPECT_EQ(s.intensity_curve, xt32().intensity_curve);
+}
+
 // Hesai's scale as on the real Pandar64 frames: print black 60-85, white 110-145, the surfaces
 // near the sensor above 100, so the preset's threshold of 100 splits ink from paper and wall; the
 // calibrated reflectivity of the other models (black 10, wall 60, white 120) would not.

@@ -68,6 +68,8 @@ SensorModel os2_64();
 SensorModel rs16();
 // Hesai Pandar64: 64 rings -25..+15 deg, 1/6 deg from -6 to +2 deg, as the bundled real frames.
 SensorModel pandar64();
+// Hesai PandarQT64: 64 rings -52.1..+52.1 deg, 0.6 deg columns, channels 5-9 deg off the column.
+SensorModel qt64();
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
