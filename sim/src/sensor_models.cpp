@@ -92,6 +92,17 @@ SensorModel avia() {
   return s;
 }
 
+// Mid-70 data sheet: the Mid-40's rosette over a 70.4 deg circular FoV, 100 000 points/s, range
+// precision 2 cm, 0.05 m minimum range (its blind zone), 260 m at 80 % reflectivity, beam divergence
+// 0.28 x 0.03 deg.
+SensorModel mid70() {
+  SensorModel s = mid40();
+  s.name = "mid70";
+  s.fov_deg = 70.4;
+  s.min_range_m = 0.05;
+  return s;
+}
+
 namespace {
 
 // Lags of lasers fired one after another, `slots` firing times to a column, numbered from the
@@ -357,6 +368,7 @@ constexpr NamedModel kModels[] = {
     {"rs16", rs16},
     {"pandar64", pandar64},
     {"qt64", qt64},
+    {"mid70", mid70},
 };
 
 }  // namespace

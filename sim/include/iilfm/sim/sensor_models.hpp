@@ -70,6 +70,8 @@ SensorModel rs16();
 SensorModel pandar64();
 // Hesai PandarQT64: 64 rings -52.1..+52.1 deg, 0.6 deg columns, channels 5-9 deg off the column.
 SensorModel qt64();
+// Livox Mid-70: the Mid-40's rosette over a 70.4 deg circular FoV.
+SensorModel mid70();
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
