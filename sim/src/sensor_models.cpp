@@ -160,6 +160,13 @@ SensorModel ultra_puck() {
   return s;
 }
 
+// The VLP-32C is the ULTRA Puck's laser layout, firing order and range under another name.
+SensorModel vlp32c() {
+  SensorModel s = ultra_puck();
+  s.name = "vlp32c";
+  return s;
+}
+
 // HDL-32E manual: 32 lasers 1.33 deg apart from -30.67 to +10.67 deg, 0.16 deg columns at 10 Hz
 // (2250 a sweep), 2 cm accuracy, 100 m range.
 // A laser fires every 1.152 us, a column every 46.08 us (40 firing times), lowest first as the
@@ -369,6 +376,7 @@ constexpr NamedModel kModels[] = {
     {"pandar64", pandar64},
     {"qt64", qt64},
     {"mid70", mid70},
+    {"vlp32c", vlp32c},
 };
 
 }  // namespace

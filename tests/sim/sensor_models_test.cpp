@@ -44,6 +44,11 @@ TEST(SensorModels, UltraPuckHas32RisingRingsFromMinus25To15) {
     EXPECT_GT(s.ring_elevations_deg[r], s.ring_elevations_deg[r - 1]) << "ring " << r;
   }
   EXPECT_EQ(points_per_frame(s), 32 * 1800);
+  // The VLP-32C is the same laser layout under its own name.
+  const SensorModel vlp32 = sensor_model("vlp32c");
+  EXPECT_EQ(vlp32.name, "vlp32c");
+  EXPECT_EQ(vlp32.ring_elevations_deg, s.ring_elevations_deg);
+  EXPECT_EQ(vlp32.ring_azimuth_offsets_deg, s.ring_azimuth_offsets_deg);
 }
 
 TEST(SensorModels, Vlp16HiResHas16RingsOf1Point33DegreesInPlusMinus10) {

@@ -72,6 +72,8 @@ SensorModel pandar64();
 SensorModel qt64();
 // Livox Mid-70: the Mid-40's rosette over a 70.4 deg circular FoV.
 SensorModel mid70();
+// Velodyne VLP-32C: the ULTRA Puck's layout (the same sensor family).
+SensorModel vlp32c();
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
