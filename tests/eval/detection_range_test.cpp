@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 namespace iilfm::eval {
 namespace {
@@ -72,6 +73,32 @@ TEST(DetectionRange, Os2128SeventeenCentimetreTagAtFourMetres) {
   // Measured: 10 of 10 (0 of 10 before the placings moved along the coarse columns).
   EXPECT_GE(r[0].found[0].second, query.required);
   EXPECT_EQ(r[0].false_positives, 0);
+}
+
+// A PandarQT64's rings are 1.45 deg apart at the horizon and up to 2.3 deg at its field's edges.
+// A 1 m tag 2 m away spans 28 deg, out to where the rings are 1.6 deg apart: the paper settings'
+// uniform rows at the finest spacing leave empty rows across it, ring rows do not. A 40 cm tag at
+// 3 m spans 5 rings for its 8 cell rows, where the paper settings' AprilTag stops.
+TEST(DetectionRange, Qt64RingRowsReadMarkersThePaperSettingsMiss) {
+  for (const auto& [size_m, distance_m] : {std::pair{1.0, 2.0}, std::pair{0.4, 3.0}}) {
+    SCOPED_TRACE(size_m);
+    RangeQuery query;
+    query.sensor = "qt64";
+    query.marker_size_m = size_m;
+    query.distances = {distance_m};
+#ifndef NDEBUG
+    query.seeds = query.required = 5;  // the footprint's sub-rays are slow under the sanitizers
+#endif
+    const std::vector<RangeResult> r =
+        detection_range(query, {RangeSettings::kPaper, RangeSettings::kIilfm});
+    ASSERT_EQ(r.size(), 2u);
+    ASSERT_EQ(r[0].found.size(), 1u);
+    ASSERT_EQ(r[1].found.size(), 1u);
+    // Measured with 10 seeds: paper settings 0 of 10 for both, iilfm 10 of 10.
+    EXPECT_LE(r[0].found[0].second, 1);
+    EXPECT_EQ(r[1].found[0].second, query.seeds);
+    EXPECT_EQ(r[0].false_positives + r[1].false_positives, 0);
+  }
 }
 
 // The HDL-32E's field runs from -30.67 to +10.67 deg: level with it, a 1 m tag 2 m away reaches
