@@ -7,6 +7,7 @@
 #include <exception>
 #include <functional>
 
+#include "convex_polygon.hpp"
 #include "iilfm/duplicates.hpp"
 #include "iilfm/edge_refine.hpp"
 #include "iilfm/error.hpp"
@@ -164,20 +165,6 @@ bool undersampled(const Detection& d, double min_samples_per_cell) {
   }
   const double needed = min_samples_per_cell * cells;
   return v_max - v_min + 1 < needed || u_max - u_min + 1 < needed;
-}
-
-// True when `p` lies inside the convex polygon `poly` (either orientation).
-bool inside(const Vec2& p, const std::vector<Vec2>& poly) {
-  if (poly.size() < 3) return false;
-  int sign = 0;
-  for (std::size_t k = 0; k < poly.size(); ++k) {
-    const Vec2 e = poly[(k + 1) % poly.size()] - poly[k], q = p - poly[k];
-    const double cross = e.x() * q.y() - e.y() * q.x();
-    const int s = cross > 0 ? 1 : cross < 0 ? -1 : 0;
-    if (s != 0 && sign != 0 && s != sign) return false;
-    if (s != 0) sign = s;
-  }
-  return true;
 }
 
 }  // namespace
@@ -465,8 +452,9 @@ std::vector<Detection> Pipeline::detect_markers(const DetectorImages& images, Fr
   if (candidates) {
     // Only where no detector reported a marker: a detection there was already checked.
     const auto covered = [&](const Vec2& centre) {
-      return std::any_of(detections.begin(), detections.end(),
-                         [&](const Detection& d) { return inside(centre, d.corners_px); });
+      return std::any_of(detections.begin(), detections.end(), [&](const Detection& d) {
+        return detail::inside_convex(centre, d.corners_px);
+      });
     };
     std::vector<Detection> decoded;
     ring_decoder_->decode_candidates(images.image, r.preprocessed.geometry, r.image,

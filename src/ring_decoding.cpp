@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "candidate_sides.hpp"
+#include "convex_polygon.hpp"
 #include "dark_quads.hpp"
 #include "detectors/aruco_detector.hpp"
 #include "iilfm/square_pixels.hpp"
@@ -476,10 +477,17 @@ void RingDecoder::decode_candidates(const cv::Mat& detect_gray,
   // A full-circle image's columns one turn apart point the same way: a detection across the seam
   // has columns past the last one.
   const double turn = image.geometry.full_circle() ? image.geometry.columns_per_turn() : 0;
+  // Covered by a detector's marker, or by one this pass decoded already (a square's nested
+  // outlines, a square read again from the strip across the seam).
+  const auto known_here = [&](const Vec2& centre) {
+    if (known && known(centre)) return true;
+    for (std::size_t i = before; i < out.size(); ++i)
+      if (inside_convex(centre, out[i].corners_px)) return true;
+    return false;
+  };
   const auto known_at = [&](const Vec2& centre) {
-    if (!known) return false;
-    if (known(centre)) return true;
-    return turn > 0 && (known(centre + Vec2(turn, 0)) || known(centre - Vec2(turn, 0)));
+    return known_here(centre) ||
+           (turn > 0 && (known_here(centre + Vec2(turn, 0)) || known_here(centre - Vec2(turn, 0))));
   };
   const bool coarse_columns = columns_are_coarse(image.geometry);
   // Reads a dark quad whose corners are `corners` in `quad_gray` (the detector image, or the strip
