@@ -93,8 +93,8 @@ SensorModel avia() {
 }
 
 // Mid-70 data sheet: the Mid-40's rosette over a 70.4 deg circular FoV, 100 000 points/s, range
-// precision 2 cm, 0.05 m minimum range (its blind zone), 260 m at 80 % reflectivity, beam divergence
-// 0.28 x 0.03 deg.
+// precision 2 cm, 0.05 m minimum range (its blind zone), 260 m at 80 % reflectivity, beam
+// divergence 0.28 x 0.03 deg.
 SensorModel mid70() {
   SensorModel s = mid40();
   s.name = "mid70";
@@ -226,6 +226,26 @@ SensorModel rs16() {
   SensorModel s = velodyne("rs16", uniform_rings(16, -15, 15));
   s.range_sigma_m = 0.02;
   s.max_range_m = 150;
+  return s;
+}
+
+// RS-LiDAR-32 user guide: 32 channels from -25 to +15 deg, 1/3 deg apart around the horizon and
+// coarser away from it, 0.2 deg columns at 10 Hz, 200 m, +-3 cm accuracy. Elevations and
+// horizontal offsets (four groups of channels, about -8, -3, +2.4 and +8 deg off the column) from
+// the sample calibration file of the maker's ROS driver (ros_rslidar, rs_lidar_32/angle.csv),
+// lowest channel first. Divergence as the Velodynes'.
+SensorModel rs32() {
+  SensorModel s =
+      velodyne("rs32", {-25.0294, -14.6883, -10.333, -7.9627, -6.477, -5.4425, -4.667,  -4.333,
+                        -3.9822,  -3.7027,  -3.333,  -3,      -2.667, -2.333,  -1.9642, -1.667,
+                        -1.3509,  -0.9463,  -0.667,  -0.333,  0,      0.333,   0.667,   1,
+                        1.333,    1.667,    2.3151,  3.2795,  4.6492, 6.9824,  10.3503, 14.9833});
+  s.ring_azimuth_offsets_deg = {
+      -7.2965,  -7.25315, 8.19315, -6.89033, 8.34127,  -6.90189, 7.94491, 2.56952,
+      -2.75319, -8.00103, 7.73504, 2.45534,  -2.89333, -7.91697, 7.65473, 2.38522,
+      -2.97813, -8.12256, 7.77112, 2.25193,  -2.96772, -8.11089, 7.70063, 2.24215,
+      -2.92932, -8.14859, 8.2448,  -7.4969,  8.18069,  -7.18652, 8.3907,  -7.04646};
+  s.max_range_m = 200;
   return s;
 }
 
@@ -377,6 +397,7 @@ constexpr NamedModel kModels[] = {
     {"qt64", qt64},
     {"mid70", mid70},
     {"vlp32c", vlp32c},
+    {"rs32", rs32},
 };
 
 }  // namespace

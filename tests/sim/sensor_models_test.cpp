@@ -149,6 +149,28 @@ TEST(SensorModels, HesaiQt64WidensItsRingsAwayFromTheHorizon) {
   EXPECT_EQ(s.intensity_curve, xt32().intensity_curve);
 }
 
+// The RS-LiDAR-32 packs 20 of its rings a third of a degree apart (to within 0.08 deg, one unit's
+// calibration) between -4.7 and +1.7 deg; its channels point 2-9 deg either side of their column.
+TEST(SensorModels, RoboSenseRs32PacksAThirdOfADegreeAroundTheHorizon) {
+  const SensorModel s = rs32();
+  const std::vector<double>& rings = s.ring_elevations_deg;
+  ASSERT_EQ(rings.size(), 32u);
+  EXPECT_NEAR(rings.front(), -25, 0.05);
+  EXPECT_NEAR(rings.back(), 15, 0.05);
+  int third_apart = 0;
+  for (std::size_t r = 1; r < rings.size(); ++r) {
+    ASSERT_GT(rings[r], rings[r - 1]) << "ring " << r;
+    third_apart += std::abs(rings[r] - rings[r - 1] - 1.0 / 3) < 0.08;
+  }
+  EXPECT_EQ(third_apart, 19);  // -4.667 to +1.667 deg
+  ASSERT_EQ(s.ring_azimuth_offsets_deg.size(), 32u);
+  for (const double offset : s.ring_azimuth_offsets_deg) {
+    EXPECT_GT(std::abs(offset), 2);
+    EXPECT_LT(std::abs(offset), 9);
+  }
+  EXPECT_EQ(points_per_frame(s), 32 * 1800);
+}
+
 // Hesai's scale as on the real Pandar64 frames: print black 60-85, white 110-145, the surfaces
 // near the sensor above 100, so the preset's threshold of 100 splits ink from paper and wall; the
 // calibrated reflectivity of the other models (black 10, wall 60, white 120) would not.

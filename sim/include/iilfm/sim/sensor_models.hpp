@@ -74,6 +74,9 @@ SensorModel qt64();
 SensorModel mid70();
 // Velodyne VLP-32C: the ULTRA Puck's layout (the same sensor family).
 SensorModel vlp32c();
+// RoboSense RS-LiDAR-32: 32 rings -25..+15 deg, 1/3 deg around the horizon, channels 2-8 deg off
+// their column (the maker's sample calibration).
+SensorModel rs32();
 
 // The model with this lower-case name; InputError listing the known names otherwise.
 SensorModel sensor_model(const std::string& name);
