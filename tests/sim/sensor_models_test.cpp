@@ -110,18 +110,24 @@ TEST(SensorModels, HesaiXt32HasRingsOneDegreeApartAnd2000Columns) {
   EXPECT_EQ(points_per_frame(s), 32 * 2000);
 }
 
+// How many steps between neighbouring rings lie within `tolerance` of `spacing`; every step
+// must rise.
+int rising_steps_near(const std::vector<double>& rings, double spacing, double tolerance) {
+  int near = 0;
+  for (std::size_t r = 1; r < rings.size(); ++r) {
+    EXPECT_GT(rings[r], rings[r - 1]) << "ring " << r;
+    near += std::abs(rings[r] - rings[r - 1] - spacing) < tolerance;
+  }
+  return near;
+}
+
 TEST(SensorModels, HesaiPandar40PPacksAThirdOfADegreeAroundTheHorizon) {
   const SensorModel s = pandar40p();
   const std::vector<double>& rings = s.ring_elevations_deg;
   ASSERT_EQ(rings.size(), 40u);
   EXPECT_DOUBLE_EQ(rings.front(), -25);
   EXPECT_DOUBLE_EQ(rings.back(), 15);
-  int third_apart = 0;
-  for (std::size_t r = 1; r < rings.size(); ++r) {
-    ASSERT_GT(rings[r], rings[r - 1]) << "ring " << r;
-    third_apart += std::abs(rings[r] - rings[r - 1] - 1.0 / 3) < 1e-9;
-  }
-  EXPECT_EQ(third_apart, 24);  // -6 to +2 deg
+  EXPECT_EQ(rising_steps_near(rings, 1.0 / 3, 1e-9), 24);  // -6 to +2 deg
   EXPECT_EQ(points_per_frame(s), 40 * 1800);
   EXPECT_EQ(s.intensity_curve, xt32().intensity_curve);
 }
@@ -157,12 +163,7 @@ TEST(SensorModels, RoboSenseRs32PacksAThirdOfADegreeAroundTheHorizon) {
   ASSERT_EQ(rings.size(), 32u);
   EXPECT_NEAR(rings.front(), -25, 0.05);
   EXPECT_NEAR(rings.back(), 15, 0.05);
-  int third_apart = 0;
-  for (std::size_t r = 1; r < rings.size(); ++r) {
-    ASSERT_GT(rings[r], rings[r - 1]) << "ring " << r;
-    third_apart += std::abs(rings[r] - rings[r - 1] - 1.0 / 3) < 0.08;
-  }
-  EXPECT_EQ(third_apart, 19);  // -4.667 to +1.667 deg
+  EXPECT_EQ(rising_steps_near(rings, 1.0 / 3, 0.08), 19);  // -4.667 to +1.667 deg
   ASSERT_EQ(s.ring_azimuth_offsets_deg.size(), 32u);
   for (const double offset : s.ring_azimuth_offsets_deg) {
     EXPECT_GT(std::abs(offset), 2);
