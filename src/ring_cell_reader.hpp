@@ -23,8 +23,8 @@ struct CellReading;
 inline constexpr double kCoarseColumnsRatio = 1.5;
 
 // True when `g`'s columns are much coarser than its rows (res_v, the mean ring spacing on ring
-// rows): a marker's placing is then searched
-// along the image's horizontal instead of its vertical (MarkerSamples).
+// rows): a marker's placing is then searched along the image's horizontal instead of its vertical
+// (MarkerSamples).
 bool columns_are_coarse(const ImageGeometry& g);
 
 // The measured pixels around a marker, placed in its plane. The marker's image is modelled in the
