@@ -113,10 +113,7 @@ int run_sim(const SimArgs& a) {
     require(all_finite(a.lidar_rpy), "--lidar-rpy needs three finite angles in degrees");
     options.T_world_lidar.linear() = rotation_from_rpy_deg(a.lidar_rpy);
   }
-  // A rosette needs seconds of integration before a marker's cells fill in; one sweep of a
-  // spinning sensor is what its driver publishes.
-  const int default_frames = sensor.pattern == sim::ScanPattern::kRosette ? 40 : 1;
-  options.frames = a.frames_opt->count() ? a.frames : default_frames;
+  options.frames = a.frames_opt->count() ? a.frames : sim::default_frames(sensor);
   require(options.frames >= 1 && options.frames <= 100000, "--frames must be 1..100000");
   options.seed = a.seed;
   sim::apply_physics(physics_request(a), options);

@@ -105,8 +105,7 @@ SimulatedCase simulate_case(const CaseSpec& spec, std::uint64_t seed) {
     options.T_world_lidar.linear() =
         options.T_world_lidar.linear() * rotation_from_rpy_deg(Vec3(0, pitch, yaw));
   }
-  const bool rosette = c.sensor.pattern == sim::ScanPattern::kRosette;
-  options.frames = spec.frames > 0 ? spec.frames : (rosette ? 40 : 1);
+  options.frames = spec.frames > 0 ? spec.frames : sim::default_frames(c.sensor);
   options.seed = seed;
   c.scan = sim::simulate(c.setup.scene, c.sensor, options);
   drop_invalid_points(c.scan.cloud);

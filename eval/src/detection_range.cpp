@@ -30,7 +30,11 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
 }
 
 double aim_pitch_deg(const std::string& sensor) {
-  std::vector<double> rings = sim::sensor_model(sensor).ring_elevations_deg;
+  const sim::SensorModel model = sim::sensor_model(sensor);
+  // A band looking up (Mid-360, -7..+52 deg) is tilted down to its middle, as rings looking down.
+  if (model.pattern == sim::ScanPattern::kBand)
+    return std::round((model.band_low_deg + model.band_high_deg) / 2);
+  std::vector<double> rings = model.ring_elevations_deg;
   if (rings.size() < 2) return 0;
   std::sort(rings.begin(), rings.end());
   double min_gap = rings.back() - rings.front(), max_gap = 0;

@@ -57,7 +57,7 @@ SimulatedCase simulate_scene(const CaseSpec& spec, double near_m, std::uint64_t 
   options.T_world_lidar = c.setup.T_world_lidar;
   options.T_world_lidar.linear() =
       c.setup.T_world_lidar.linear() * rotation_from_rpy_deg(spec.lidar_rpy_deg);
-  options.frames = c.sensor.pattern == sim::ScanPattern::kRosette ? 40 : 1;
+  options.frames = sim::default_frames(c.sensor);
   options.seed = seed;
   c.scan = sim::simulate(c.setup.scene, c.sensor, options);
   return c;

@@ -109,8 +109,7 @@ py::tuple simulate(const SimArgs& a) {
                                       Eigen::AngleAxisd(r[0] * kDegToRad, Vec3::UnitX()))
                                          .toRotationMatrix();
   }
-  // As `iilfm sim`: a rosette integrates 40 frames by default, a spinning sensor one sweep.
-  options.frames = a.frames ? *a.frames : (sensor.pattern == sim::ScanPattern::kRosette ? 40 : 1);
+  options.frames = a.frames ? *a.frames : sim::default_frames(sensor);
   require(options.frames >= 1 && options.frames <= 100000, "--frames must be 1..100000");
   options.seed = a.seed;
   sim::PhysicsRequest physics;

@@ -4,10 +4,16 @@
 namespace iilfm::sim {
 
 void scan_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beams) {
-  if (sensor.pattern == ScanPattern::kRosette) {
-    rosette_frame(sensor, frame, beams);
-  } else {
-    spinning_frame(sensor, frame, beams);
+  switch (sensor.pattern) {
+    case ScanPattern::kRosette:
+      rosette_frame(sensor, frame, beams);
+      return;
+    case ScanPattern::kSpinning:
+      spinning_frame(sensor, frame, beams);
+      return;
+    case ScanPattern::kBand:
+      band_frame(sensor, frame, beams);
+      return;
   }
 }
 

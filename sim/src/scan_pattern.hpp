@@ -21,6 +21,9 @@ void rosette_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beam
 // Replaces `beams` with sweep `frame` of a spinning sensor, column by column, rings bottom-up.
 void spinning_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beams);
 
+// Replaces `beams` with frame `frame` of a band sensor: beam k fires at (frame * n + k) / pps.
+void band_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beams);
+
 // Dispatches on sensor.pattern.
 void scan_frame(const SensorModel& sensor, int frame, std::vector<Beam>& beams);
 

@@ -103,6 +103,51 @@ SensorModel mid70() {
   return s;
 }
 
+// Horizon data sheet: 81.7 (h) x 25.1 (v) deg, 240 000 points/s (first return), range precision
+// 2 cm, 0.5 m blind zone, 260 m at 80 % reflectivity, beam divergence 0.28 (v) x 0.03 (h) deg.
+// Its pattern (sweeps across the width) is not modelled: an elliptical rosette as the Avia's.
+SensorModel horizon() {
+  SensorModel s = mid40();
+  s.name = "horizon";
+  s.points_per_second = 240000;
+  s.fov_deg = 81.7;
+  s.fov_v_deg = 25.1;
+  s.min_range_m = 0.5;
+  return s;
+}
+
+// HAP (TX) user manual: 120 (h) x 25 (v) deg, 452 000 points/s, 10 Hz, range random error < 2 cm
+// at 20 m, 0.5 m blind zone, 150 m at 10 % reflectivity, beam divergence 0.03 (h) x 0.28 (v) deg.
+// An elliptical rosette as the Avia's.
+SensorModel hap() {
+  SensorModel s = mid40();
+  s.name = "hap";
+  s.points_per_second = 452000;
+  s.fov_deg = 120;
+  s.fov_v_deg = 25;
+  s.min_range_m = 0.5;
+  s.max_range_m = 150;
+  return s;
+}
+
+// Mid-360 data sheet: 360 deg by -7..+52 deg, 200 000 points/s (first return), 10 Hz, range
+// precision 2 cm at 10 m, 0.1 m blind zone, 70 m at 80 % reflectivity, four beams. Beam
+// divergence is not published; the other Livox units' 0.28 x 0.03 deg is assumed. The band
+// pattern (band.cpp) stands in for the real one.
+SensorModel mid360() {
+  SensorModel s = mid40();
+  s.name = "mid360";
+  s.pattern = ScanPattern::kBand;
+  s.points_per_second = 200000;
+  s.fov_deg = 0;
+  s.band_low_deg = -7;
+  s.band_high_deg = 52;
+  s.band_beams = 4;
+  s.min_range_m = 0.1;
+  s.max_range_m = 70;
+  return s;
+}
+
 namespace {
 
 // Lags of lasers fired one after another, `slots` firing times to a column, numbered from the
@@ -398,6 +443,9 @@ constexpr NamedModel kModels[] = {
     {"mid70", mid70},
     {"vlp32c", vlp32c},
     {"rs32", rs32},
+    {"horizon", horizon},
+    {"hap", hap},
+    {"mid360", mid360},
 };
 
 }  // namespace
@@ -418,6 +466,10 @@ SensorModel sensor_model(const std::string& name) {
 
 int points_per_frame(const SensorModel& sensor) {
   return static_cast<int>(std::lround(sensor.points_per_second / sensor.frame_rate_hz));
+}
+
+int default_frames(const SensorModel& sensor) {
+  return sensor.pattern == ScanPattern::kSpinning ? 1 : 40;
 }
 
 }  // namespace iilfm::sim

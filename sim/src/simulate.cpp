@@ -33,6 +33,13 @@ void check_inputs(const Scene& scene, const SensorModel& sensor, const SimOption
       (sensor.ring_elevations_deg.empty() || !(sensor.azimuth_step_deg > 0))) {
     throw InputError("spinning sensor '" + sensor.name + "' needs rings and an azimuth step");
   }
+  if (sensor.pattern == ScanPattern::kBand &&
+      (sensor.band_beams < 1 ||
+       !(sensor.band_low_deg >= -90 && sensor.band_low_deg < sensor.band_high_deg &&
+         sensor.band_high_deg <= 90))) {
+    throw InputError("band sensor '" + sensor.name +
+                     "' needs at least one beam and a band within -90..90 deg");
+  }
   auto probability = [](double p) { return p >= 0 && p <= 1; };
   if (options.footprint && options.footprint_samples < 1) {
     throw InputError("footprint needs at least one sub-ray, got " +
@@ -72,9 +79,11 @@ bool in_field_of_view(const SensorModel& sensor, const Vec3& p) {
     const double u = rho * p.y() / lateral / half_h, v = rho * p.z() / lateral / half_v;
     return u * u + v * v <= 1 + 1e-12;
   }
+  const double elevation = std::asin(std::clamp(p.z() / n, -1.0, 1.0)) / kDegToRad;
+  if (sensor.pattern == ScanPattern::kBand)
+    return elevation >= sensor.band_low_deg && elevation <= sensor.band_high_deg;
   const auto [lowest, highest] =
       std::minmax_element(sensor.ring_elevations_deg.begin(), sensor.ring_elevations_deg.end());
-  const double elevation = std::asin(std::clamp(p.z() / n, -1.0, 1.0)) / kDegToRad;
   return elevation >= *lowest && elevation <= *highest;
 }
 

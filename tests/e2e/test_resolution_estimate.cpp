@@ -54,11 +54,12 @@ TEST(ResolutionEstimate, SpinningSensorsFromTheElevationsAlone) {
 
 // Non-repetitive scanners (10 and 30 frames; 60 for the Mid-40 below): the truth is the spec's
 // mean point spacing, sqrt(field of view / points per integration), times the documented pixel
-// factor; the estimator sees only the cloud.
-TEST(ResolutionEstimate, RosetteSensorsFromThePointDensity) {
+// factor; the estimator sees only the cloud. The field is an elliptical cone for the rosettes and
+// 360 deg by the band's elevations for the Mid-360 (the room surrounds it).
+TEST(ResolutionEstimate, NonRepetitiveSensorsFromThePointDensity) {
   for (const std::string& name : sim::sensor_model_names()) {
     const sim::SensorModel sensor = sim::sensor_model(name);
-    if (sensor.pattern != sim::ScanPattern::kRosette) continue;
+    if (sensor.pattern == sim::ScanPattern::kSpinning) continue;
     for (int frames : {10, 30}) {
       SCOPED_TRACE(name + ", " + std::to_string(frames) + " frames");
       const sim::SimResult scan = scan_room(sensor, frames);
@@ -66,7 +67,9 @@ TEST(ResolutionEstimate, RosetteSensorsFromThePointDensity) {
       EXPECT_EQ(e.method, "point density");
       EXPECT_EQ(e.rows, RowLayout::kUniform);
       const double fov_v = sensor.fov_v_deg > 0 ? sensor.fov_v_deg : sensor.fov_deg;
-      const double area_deg2 = M_PI / 4 * sensor.fov_deg * fov_v;  // elliptical cone
+      const double area_deg2 = sensor.pattern == sim::ScanPattern::kBand
+                                   ? 360 * (sensor.band_high_deg - sensor.band_low_deg)
+                                   : M_PI / 4 * sensor.fov_deg * fov_v;
       const double points = sensor.points_per_second * frames / sensor.frame_rate_hz;
       const double truth = kDensityFactor * std::sqrt(area_deg2 / points);
       EXPECT_NEAR(e.res_h_deg, truth, 0.1 * truth);

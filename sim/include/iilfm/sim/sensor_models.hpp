@@ -11,6 +11,8 @@ enum class ScanPattern {
   kRosette,   // Livox-style Risley prisms: a non-repeating flower inside a circular or elliptical
               // cone
   kSpinning,  // Velodyne-style: a column of fixed-elevation rings fired at every azimuth step
+  kBand,      // Livox Mid-360-style: a few beams spinning through 360 deg while they sweep up and
+              // down an elevation band at a rate that never locks to the spin
 };
 
 struct SensorModel {
@@ -30,6 +32,9 @@ struct SensorModel {
   double min_range_m = 0, max_range_m = 0;
   double fov_deg = 0;    // rosette: full cone angle (Mid-40: 38.4); horizontal if fov_v_deg is set
   double fov_v_deg = 0;  // rosette: full vertical angle of an elliptical cone; 0 = circular
+  // Band: the elevations swept (lowest, highest) and the number of beams sweeping them.
+  double band_low_deg = 0, band_high_deg = 0;
+  int band_beams = 0;
   std::vector<double> ring_elevations_deg;  // spinning: index = ring number, ring 0 lowest
   double azimuth_step_deg = 0;              // spinning: column step
   // Spinning: how far each ring's beam points clockwise (the spin direction) of its column's
@@ -74,6 +79,13 @@ SensorModel qt64();
 SensorModel mid70();
 // Velodyne VLP-32C: the ULTRA Puck's layout (the same sensor family).
 SensorModel vlp32c();
+// Livox Horizon (81.7 x 25.1 deg, 240k pts/s) and HAP (120 x 25 deg, 452k pts/s): elliptical
+// rosettes standing in for their real patterns, as the Avia's (docs/simulator.md).
+SensorModel horizon();
+SensorModel hap();
+// Livox Mid-360: 360 deg by -7..+52 deg, 200k pts/s, four beams on a band pattern standing in for
+// the real one (docs/simulator.md).
+SensorModel mid360();
 // RoboSense RS-LiDAR-32: 32 rings -25..+15 deg, 1/3 deg around the horizon, channels 2-8 deg off
 // their column (the maker's sample calibration).
 SensorModel rs32();
@@ -89,5 +101,9 @@ double reported_intensity(const SensorModel& sensor, double intensity);
 
 // Points in one frame (one 1/frame_rate_hz period).
 int points_per_frame(const SensorModel& sensor);
+
+// Frames a scan integrates unless told otherwise: a non-repetitive scanner needs seconds before a
+// marker's cells fill in (40 frames); one sweep of a spinning sensor is what its driver publishes.
+int default_frames(const SensorModel& sensor);
 
 }  // namespace iilfm::sim
