@@ -283,31 +283,125 @@ double otsu_threshold(const cv::Mat& gray, const cv::Mat& mask,
   return best_t * scale / 255.0;
 }
 
-// 255 where brighter than the valid pixels' mean around it; where the window is nearly flat (a
-// wall, the sky), where brighter than the global threshold.
-cv::Mat above_local_mean(const cv::Mat& filled, const cv::Mat& valid, double global_threshold,
-                         double percentile_99, const PreprocessOptions& options) {
-  const int w = std::max(3, options.local_window | 1);
+// The local threshold's window sums, kept across frames: a frame of one size allocates nothing
+// (as OpenCV temporaries these were a dozen fresh image-sized buffers a frame, whose first touch
+// cost 15 ms on a Mid-40 image, and cv::boxFilter allocates its own row buffers on every call).
+struct LocalThresholdBuffers {
   cv::Mat weight, values, squares, sum, sum_sq, count;
-  valid.convertTo(weight, CV_32F, 1.0 / 255.0);
-  cv::multiply(filled, weight, values);
-  cv::multiply(values, filled, squares);
-  const cv::Size window(w, w);
-  cv::boxFilter(values, sum, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  cv::boxFilter(squares, sum_sq, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  cv::boxFilter(weight, count, CV_32F, window, cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  count = cv::max(count, 1.0f);
-  cv::Mat mean, mean_sq, variance;
-  cv::divide(sum, count, mean);
-  cv::divide(sum_sq, count, mean_sq);
-  cv::subtract(mean_sq, mean.mul(mean), variance);
+  std::vector<double> down;   // one row of the sums down a window's rows
+  std::vector<float> padded;  // the same in float, with a half window of zeros either side
+};
+
+// The default window's half width (PreprocessOptions::local_window 15).
+constexpr int kLocalHalfWindow = 7;
+
+// Sums along a row over 2 kHalf + 1 values of `padded` (a row with kHalf values either side of
+// [0, cols)), each held in a register while its terms are added in order: the same floats as the
+// generic loop below, in half its loads and stores.
+template <int kHalf>
+inline void sums_along(const float* __restrict padded, int cols, float* __restrict sum) {
+  for (int c = 0; c < cols; ++c) {
+    float acc = padded[c - kHalf];
+    for (int k = 1 - kHalf; k <= kHalf; ++k) acc += padded[c + k];
+    sum[c] = acc;
+  }
+}
+
+// Sums of `in` (CV_32F) over the (2 half + 1)-square window about every pixel, zero outside the
+// image, into `out`: running sums down the columns in double (added and dropped a row at a time,
+// vectorised across the row), then direct sums along each row in float, every sum's terms in one
+// fixed order.
+IILFM_AVX2_CLONES void window_sums(const cv::Mat& in, int half, LocalThresholdBuffers& b,
+                                   cv::Mat& out) {
+  const int rows = in.rows, cols = in.cols;
+  b.down.assign(static_cast<std::size_t>(cols), 0.0);
+  b.padded.assign(static_cast<std::size_t>(cols + 2 * half), 0.0f);
+  double* __restrict down = b.down.data();
+  float* __restrict padded = b.padded.data() + half;
+  const auto add_row = [&](int r, double sign) {
+    if (r < 0 || r >= rows) return;
+    const float* __restrict row = in.ptr<float>(r);
+    for (int c = 0; c < cols; ++c) down[c] += sign * static_cast<double>(row[c]);
+  };
+  for (int r = 0; r < half; ++r) add_row(r, 1.0);
+  for (int r = 0; r < rows; ++r) {
+    add_row(r + half, 1.0);
+    add_row(r - half - 1, -1.0);
+    for (int c = 0; c < cols; ++c) padded[c] = static_cast<float>(down[c]);
+    float* __restrict sum = out.ptr<float>(r);
+    if (half == kLocalHalfWindow) {
+      sums_along<kLocalHalfWindow>(padded, cols, sum);
+    } else {
+      for (int c = 0; c < cols; ++c) sum[c] = padded[c - half];
+      for (int k = 1 - half; k <= half; ++k) {
+        const float* __restrict shifted = padded + k;
+        for (int c = 0; c < cols; ++c) sum[c] += shifted[c];
+      }
+    }
+  }
+}
+
+// Each valid pixel's weight (1), value and square; unobserved pixels weigh nothing.
+IILFM_AVX2_CLONES void weighted_values(const cv::Mat& filled, const cv::Mat& valid,
+                                       LocalThresholdBuffers& b) {
+  const int rows = filled.rows, cols = filled.cols;
+  for (int r = 0; r < rows; ++r) {
+    const float* __restrict f = filled.ptr<float>(r);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
+    float* __restrict w = b.weight.ptr<float>(r);
+    float* __restrict v = b.values.ptr<float>(r);
+    float* __restrict q = b.squares.ptr<float>(r);
+    for (int c = 0; c < cols; ++c) {
+      w[c] = m[c] ? 1.0f : 0.0f;  // masks hold 0 or 255
+      v[c] = f[c] * w[c];
+      q[c] = v[c] * f[c];
+    }
+  }
+}
+
+// The binary image from the window sums: white where brighter than the valid pixels' mean around
+// it, or, where the window is nearly flat (its spread at most `min_spread`), than the global
+// threshold; unobserved pixels `unobserved`.
+IILFM_AVX2_CLONES void above_local_means(const cv::Mat& filled, const cv::Mat& valid,
+                                         const LocalThresholdBuffers& b, float global_threshold,
+                                         float min_spread_sq, std::uint8_t unobserved,
+                                         cv::Mat& detect) {
+  const int rows = filled.rows, cols = filled.cols;  // locals: the byte stores could alias them
+  for (int r = 0; r < rows; ++r) {
+    const float* __restrict f = filled.ptr<float>(r);
+    const std::uint8_t* __restrict m = valid.ptr<std::uint8_t>(r);
+    const float* __restrict sum = b.sum.ptr<float>(r);
+    const float* __restrict sum_sq = b.sum_sq.ptr<float>(r);
+    const float* __restrict count = b.count.ptr<float>(r);
+    std::uint8_t* __restrict out = detect.ptr<std::uint8_t>(r);
+    for (int c = 0; c < cols; ++c) {
+      const float n = std::max(count[c], 1.0f);
+      const float mean = sum[c] / n;
+      const float variance = sum_sq[c] / n - mean * mean;
+      const float level = variance > min_spread_sq ? mean : global_threshold;
+      const std::uint8_t white = f[c] > level ? 255 : 0;
+      out[c] = m[c] ? white : unobserved;
+    }
+  }
+}
+
+// `detect` white where brighter than the valid pixels' mean around it; where the window is
+// nearly flat (a wall, the sky), where brighter than the global threshold.
+void local_threshold(const cv::Mat& filled, const cv::Mat& valid, double global_threshold,
+                     double percentile_99, const PreprocessOptions& options, cv::Mat& detect) {
+  thread_local LocalThresholdBuffers b;
+  const int w = std::max(3, options.local_window | 1);
+  for (cv::Mat* m : {&b.weight, &b.values, &b.squares}) m->create(filled.size(), CV_32F);
+  weighted_values(filled, valid, b);
+  for (cv::Mat* m : {&b.sum, &b.sum_sq, &b.count}) m->create(filled.size(), CV_32F);
+  window_sums(b.values, w / 2, b, b.sum);
+  window_sums(b.squares, w / 2, b, b.sum_sq);
+  window_sums(b.weight, w / 2, b, b.count);
   const double min_spread = options.local_min_contrast * percentile_99;
-  cv::Mat contrasted = variance > static_cast<float>(min_spread * min_spread);
-  cv::Mat local = filled > mean, global = filled > global_threshold;
-  cv::Mat above;
-  global.copyTo(above);
-  local.copyTo(above, contrasted);
-  return above;
+  detect.create(filled.size(), CV_8U);
+  above_local_means(filled, valid, b, static_cast<float>(global_threshold),
+                    static_cast<float>(min_spread * min_spread),
+                    static_cast<std::uint8_t>(options.unobserved_value), detect);
 }
 
 // The row that row `r` of a resampled image repeats (itself when it does not repeat): the only
@@ -489,11 +583,7 @@ void preprocess(const ProjectedImage& image, const PreprocessOptions& options,
   if (!options.binarize) {
     out.gray.copyTo(out.detect);
   } else if (options.local_threshold) {
-    const cv::Mat above = above_local_mean(filled, filled_mask, out.threshold, percentile, options);
-    out.detect.create(filled.size(), CV_8U);
-    out.detect.setTo(0);
-    out.detect.setTo(255, above & filled_mask);
-    out.detect.setTo(options.unobserved_value, filled_mask == 0);
+    local_threshold(filled, filled_mask, out.threshold, percentile, options, out.detect);
   }
   if (options.binarize) {
     classify_holes_and_blur(out, options, out.detect);
