@@ -194,7 +194,11 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
         << " lies above every intensity in the image (largest " << r.preprocessed.max_intensity
         << "), so no pixel is white; try --threshold otsu\n";
   }
-  if (r.threshold_retry && r.threshold_retry->found > 0) {
+  if (r.threshold_retry && r.threshold_retry->found > 0 && r.threshold_retry->local) {
+    out << "note: the sensor preset's threshold " << r.threshold_retry->fixed
+        << " found no marker; the local threshold found " << r.threshold_retry->found
+        << " (a far marker's cells averaged by the beam)\n";
+  } else if (r.threshold_retry && r.threshold_retry->found > 0) {
     out << "note: the sensor preset's threshold " << r.threshold_retry->fixed
         << " found no marker; Otsu's threshold " << r.threshold_retry->otsu << " found "
         << r.threshold_retry->found
@@ -413,8 +417,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_option(
       "--threshold", args->threshold,
       "Naive threshold in intensity units, 'otsu', or 'local' (local mean where the image "
-      "has contrast; default: the preset's, retried at Otsu's when it finds no marker, or Otsu "
-      "without a preset; 'local' for an image input)");
+      "has contrast; default: the preset's, retried at Otsu's when it finds no marker (a Livox "
+      "preset's locally, where Otsu's is no other choice), or Otsu without a preset; 'local' for "
+      "an image input)");
   cmd->add_option("--normalise-intensity", args->normalise_intensity,
                   "Intensity for range (x (r / 10 m)^2) and angle of incidence before "
                   "thresholding: none|range|range-incidence (default: the preset's, else none; "

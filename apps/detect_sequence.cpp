@@ -175,7 +175,8 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           ++counts.threshold_above_all;
           counts.threshold = result.preprocessed.threshold;
         }
-        if (result.threshold_retry && result.threshold_retry->found > 0) {
+        if (result.threshold_retry && result.threshold_retry->found > 0 &&
+            !result.threshold_retry->local) {
           ++counts.found_at_otsu;
           counts.threshold = result.threshold_retry->fixed;
         }

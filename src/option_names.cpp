@@ -95,6 +95,7 @@ void set_given_threshold(double threshold, PipelineOptions& options) {
   options.preprocess.threshold = threshold;
   options.preprocess.replace_threshold_above_all = false;
   options.retry_with_otsu = false;
+  options.retry_with_local_threshold = false;
 }
 
 std::vector<int> parse_id_list(const std::string& text) {

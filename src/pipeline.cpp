@@ -180,6 +180,7 @@ void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
       preset.kind == ScanKind::kSpinning ? RowLayout::kRings : RowLayout::kUniform;
   options.preprocess.threshold = preset.threshold;
   options.preprocess.normalise.mode = preset.normalise;
+  options.retry_with_local_threshold = preset.retry_local_threshold;
 }
 
 void set_threads(PipelineOptions& options, int threads) {
@@ -390,6 +391,12 @@ std::optional<double> Pipeline::otsu_retry_threshold(const PreprocessedImage& im
   return otsu;
 }
 
+bool Pipeline::local_retry_applies(const PreprocessedImage& image) const {
+  const PreprocessOptions& p = options_.preprocess;
+  return options_.retry_with_local_threshold && p.threshold && p.binarize && !p.local_threshold &&
+         !image.replaced_threshold && !image.no_intensity;
+}
+
 void Pipeline::run_detectors(const DetectorImages& images, std::vector<Detection>& out,
                              const std::function<void()>& beside) {
   const std::size_t tasks = detectors_.size() + (beside ? 1 : 0);
@@ -503,17 +510,22 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
                                          ? otsu_retry_threshold(r.preprocessed)
                                          : std::nullopt;
   r.times_ms.preprocess += watch.lap_ms();  // Otsu's histogram, else counted as the lift's
-  if (otsu) {
-    binarize_at(r.preprocessed, *otsu, options_.preprocess, retry_detect_);
+  const bool local = !otsu && detections.empty() && r.unknown_ids_dropped == 0 &&
+                     local_retry_applies(r.preprocessed);
+  if (otsu || local) {
+    if (otsu)
+      binarize_at(r.preprocessed, *otsu, options_.preprocess, retry_detect_);
+    else
+      binarize_locally(r.preprocessed, options_.preprocess, retry_detect_);
     r.times_ms.preprocess += watch.lap_ms();
     DetectorImages images = detector_images(r.preprocessed, options_.preprocess);
     images.image = retry_detect_;
     detections = detect_markers(images, r);
-    r.threshold_retry =
-        FrameResult::ThresholdRetry{r.preprocessed.threshold, *otsu, detections.size()};
+    r.threshold_retry = FrameResult::ThresholdRetry{r.preprocessed.threshold, otsu.value_or(0),
+                                                    detections.size(), local};
     if (!detections.empty()) {
       std::swap(r.preprocessed.detect, retry_detect_);
-      r.preprocessed.threshold = *otsu;
+      if (otsu) r.preprocessed.threshold = *otsu;
     }
     r.times_ms.detect += watch.lap_ms();
   }

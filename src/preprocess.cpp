@@ -607,6 +607,12 @@ void binarize_at(PreprocessedImage& image, double threshold, const PreprocessOpt
   classify_holes_and_blur(image, options, detect);
 }
 
+void binarize_locally(PreprocessedImage& image, const PreprocessOptions& options, cv::Mat& detect) {
+  local_threshold(image.filled, image.valid, image.threshold, image.intensity_scale / kGrayHeadroom,
+                  options, detect);
+  classify_holes_and_blur(image, options, detect);
+}
+
 DetectorImages detector_images(const PreprocessedImage& image, const PreprocessOptions& options) {
   DetectorImages images{image.detect, cv::Mat(), cv::Mat()};
   if (options.binarize) {

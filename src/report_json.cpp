@@ -124,10 +124,13 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
         {"max_intensity", round_to(result.preprocessed.max_intensity, 1e-6)}};
   }
   if (result.threshold_retry) {
-    // The preset's threshold found no marker; the frame was thresholded at Otsu's as well.
-    out["image"]["threshold_retry"] = {{"fixed", round_to(result.threshold_retry->fixed, 1e-3)},
-                                       {"otsu", round_to(result.threshold_retry->otsu, 1e-3)},
-                                       {"found", result.threshold_retry->found}};
+    // The preset's threshold found no marker; the frame was thresholded at Otsu's or locally too.
+    const FrameResult::ThresholdRetry& retry = *result.threshold_retry;
+    nlohmann::json& json = out["image"]["threshold_retry"];
+    json = {{"fixed", round_to(retry.fixed, 1e-3)},
+            {"method", retry.local ? "local" : "otsu"},
+            {"found", retry.found}};
+    if (!retry.local) json["otsu"] = round_to(retry.otsu, 1e-3);
   }
   if (result.preprocessed.geometry.height != g.height) {
     out["image"]["detector_height"] = result.preprocessed.geometry.height;  // square pixels

@@ -8,19 +8,21 @@ namespace {
 
 SensorPreset livox(std::string name, std::string description, double res_deg, double h_min,
                    double h_max, double v_min, double v_max, int frames) {
-  return {std::move(name),
-          std::move(description),
-          ScanKind::kNonRepetitive,
-          0,
-          res_deg,
-          res_deg,
-          h_min,
-          h_max,
-          v_min,
-          v_max,
-          40.0,
-          frames,
-          IntensityNormalisation::kNone};
+  SensorPreset preset{std::move(name),
+                      std::move(description),
+                      ScanKind::kNonRepetitive,
+                      0,
+                      res_deg,
+                      res_deg,
+                      h_min,
+                      h_max,
+                      v_min,
+                      v_max,
+                      40.0,
+                      frames,
+                      IntensityNormalisation::kNone};
+  preset.retry_local_threshold = true;
+  return preset;
 }
 
 SensorPreset spinning(std::string name, std::string description, int rings, double res_h_deg,

@@ -25,6 +25,7 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
     options.min_samples_per_cell = 0;
     options.detector.apriltag.decode_gray = false;  // the paper's AprilTag reads the binary image
     options.retry_with_otsu = false;                // one naive threshold
+    options.retry_with_local_threshold = false;
   }
   return options;
 }

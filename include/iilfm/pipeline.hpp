@@ -97,6 +97,13 @@ struct PipelineOptions {
   // black ink that returns 60 on a 0..255 scale, shows no marker at the preset's threshold.
   // FrameResult::threshold_retry reports it. A threshold the user gives (set_threshold) is kept.
   bool retry_with_otsu = true;
+  // When the fixed threshold finds no marker and Otsu's is no other choice (above), threshold the
+  // frame locally (PreprocessOptions::local_threshold) and detect once more. The Livox presets set
+  // it: their 0.28 deg vertical beam divergence averages a far marker's black cells into the white
+  // ones, which a fixed threshold near the black level (40 against print at 10 and 120) turns
+  // white, while the local mean splits them. Not the default for near markers: a window smaller
+  // than a cell breaks large cells into specks for ArUco (docs/sensors.md, "Detection range").
+  bool retry_with_local_threshold = false;
 };
 
 struct MarkerResult {
@@ -139,9 +146,12 @@ struct FrameResult {
   StageTimes times_ms;
   // PipelineOptions::retry_with_otsu: the fixed threshold that found nothing, Otsu's threshold,
   // and the markers found at Otsu's (then `preprocessed.detect` and `.threshold` are Otsu's).
+  // PipelineOptions::retry_with_local_threshold: `local` set, `otsu` unused, and the markers found
+  // with the local threshold (then `preprocessed.detect` is its image).
   struct ThresholdRetry {
     double fixed = 0, otsu = 0;
     std::size_t found = 0;
+    bool local = false;
   };
   std::optional<ThresholdRetry> threshold_retry;
   // PipelineOptions::only_known_ids: markers found whose ids were not known, so not reported.
@@ -196,6 +206,8 @@ class Pipeline {
                      const std::function<void()>& beside);
   // Otsu's threshold when PipelineOptions::retry_with_otsu applies to this frame's fixed one.
   std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
+  // Whether PipelineOptions::retry_with_local_threshold applies to this frame's fixed threshold.
+  bool local_retry_applies(const PreprocessedImage& image) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
   // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`;
@@ -214,7 +226,7 @@ class Pipeline {
   std::unique_ptr<detail::TaskThreads> detect_helpers_;  // from the first frame that uses them
   KnownIds known_ids_;                                   // known_ids_of(options_)
   FrameResult result_;
-  cv::Mat retry_detect_;  // the binary image at Otsu's threshold (retry_with_otsu), reused
+  cv::Mat retry_detect_;  // the binary image of a threshold retry (Otsu's or local), reused
   // The projected image with its values moved to the pixel centres, for edge refinement on ring
   // rows off the column grid (detail::intensity_at_centres), reused.
   ProjectedImage edge_image_;

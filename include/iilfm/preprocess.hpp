@@ -113,6 +113,10 @@ double otsu_threshold(const PreprocessedImage& image);
 void binarize_at(PreprocessedImage& image, double threshold, const PreprocessOptions& options,
                  cv::Mat& detect);
 
+// The same with the local threshold (PreprocessOptions::local_threshold; `image.threshold` in
+// the flat regions).
+void binarize_locally(PreprocessedImage& image, const PreprocessOptions& options, cv::Mat& detect);
+
 // What the detectors are given (headers onto `image`'s buffers, no copy): the detection image,
 // and with a binarised one the gray image and its valid mask.
 DetectorImages detector_images(const PreprocessedImage& image, const PreprocessOptions& options);

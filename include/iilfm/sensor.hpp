@@ -32,6 +32,8 @@ struct SensorPreset {
   int frames = 1;  // frames to integrate for a usable image (`--frames` for sequences)
   // Intensity normalisation for sensors whose intensity falls with range (docs/sensors.md).
   IntensityNormalisation normalise = IntensityNormalisation::kNone;
+  // PipelineOptions::retry_with_local_threshold: the Livox presets.
+  bool retry_local_threshold = false;
 };
 
 // All presets, in the order `iilfm sensors` lists them.

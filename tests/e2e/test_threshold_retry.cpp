@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "iilfm/eval/case.hpp"
 #include "iilfm/option_names.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/sensor.hpp"
@@ -107,6 +108,47 @@ TEST(ThresholdRetry, OnlyAnOtsuThresholdFarFromTheFixedOneIsTried) {
   EXPECT_DOUBLE_EQ(r.threshold_retry->otsu, otsu);
   EXPECT_EQ(r.threshold_retry->found, 0u);
   EXPECT_EQ(r.preprocessed.threshold, 0.5 * otsu);  // nothing found: the fixed one stays applied
+}
+
+// A 40 cm tag36h11 13 m from a Livox Horizon, beam footprints on: the 0.28 deg vertical divergence
+// spans 1.3 of its 5 cm cells and averages black into white, which the preset's threshold of 40
+// (print at 10 and 120) turns white. The local threshold splits them, on the second look only.
+TEST(ThresholdRetry, ALivoxPresetLooksAgainLocallyWhereTheBeamBlursAFarMarker) {
+  eval::CaseSpec spec = eval::tag_wall_spec("horizon", 13, 0.4);
+  spec.physics.footprint = true;
+  spec.lidar_rpy_deg = Vec3(0, 1, 1.7);
+  const eval::SimulatedCase c = eval::simulate_case(spec, 1);
+  PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+  ASSERT_TRUE(options.retry_with_local_threshold);
+
+  options.retry_with_local_threshold = false;
+  Pipeline without(options);
+  const FrameResult& missed = without.process(c.scan.cloud);
+  EXPECT_TRUE(missed.markers.empty());
+  EXPECT_FALSE(missed.threshold_retry);  // Otsu's threshold lies within a quarter of 40
+
+  options.retry_with_local_threshold = true;
+  Pipeline with(options);
+  const FrameResult& r = with.process(c.scan.cloud);
+  ASSERT_EQ(r.markers.size(), 1u);
+  EXPECT_EQ(r.markers[0].detection.id, 0);
+  ASSERT_TRUE(r.threshold_retry);
+  EXPECT_TRUE(r.threshold_retry->local);
+  EXPECT_EQ(r.threshold_retry->fixed, 40.0);
+  EXPECT_EQ(r.threshold_retry->found, 1u);
+  EXPECT_EQ(r.preprocessed.threshold, 40.0);  // still the flat regions' threshold
+  for (int k = 0; k < 4; ++k) {
+    const LiftedCorner& corner = r.markers[0].corners[static_cast<std::size_t>(k)];
+    ASSERT_TRUE(corner.valid());
+    EXPECT_LT(
+        (corner.point - c.scan.truth.markers[0].corners_lidar[static_cast<std::size_t>(k)]).norm(),
+        0.03)
+        << "corner " << k;
+  }
+
+  // The user's own threshold is kept: no second look.
+  set_threshold("40", options);
+  EXPECT_FALSE(options.retry_with_local_threshold);
 }
 
 }  // namespace
