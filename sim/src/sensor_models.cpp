@@ -79,56 +79,43 @@ SensorModel mid40() {
   return s;
 }
 
+namespace {
+
+// A Livox unit on the Mid-40's rosette (its range noise and 0.28 x 0.03 deg divergence) with its
+// own point rate, field (fov_v_deg 0: circular) and range limits.
+SensorModel livox_rosette(const char* name, double points_per_second, double fov_deg,
+                          double fov_v_deg, double min_range_m, double max_range_m) {
+  SensorModel s = mid40();
+  s.name = name;
+  s.points_per_second = points_per_second;
+  s.fov_deg = fov_deg;
+  s.fov_v_deg = fov_v_deg;
+  s.min_range_m = min_range_m;
+  s.max_range_m = max_range_m;
+  return s;
+}
+
+}  // namespace
+
 // Avia data sheet: non-repetitive FoV 70.4 (h) x 77.2 (v) deg, 240 000 points/s (first
 // return), range precision 2 cm, 1 m blind zone, 190 m at 10 % reflectivity, beam divergence
 // 0.28 x 0.03 deg like the Mid-40. Its six beams are folded into one elliptical rosette.
-SensorModel avia() {
-  SensorModel s = mid40();
-  s.name = "avia";
-  s.points_per_second = 240000;
-  s.fov_deg = 70.4;
-  s.fov_v_deg = 77.2;
-  s.max_range_m = 190;
-  return s;
-}
+SensorModel avia() { return livox_rosette("avia", 240000, 70.4, 77.2, 1.0, 190); }
 
 // Mid-70 data sheet: the Mid-40's rosette over a 70.4 deg circular FoV, 100 000 points/s, range
 // precision 2 cm, 0.05 m minimum range (its blind zone), 260 m at 80 % reflectivity, beam
 // divergence 0.28 x 0.03 deg.
-SensorModel mid70() {
-  SensorModel s = mid40();
-  s.name = "mid70";
-  s.fov_deg = 70.4;
-  s.min_range_m = 0.05;
-  return s;
-}
+SensorModel mid70() { return livox_rosette("mid70", 100000, 70.4, 0, 0.05, 260); }
 
 // Horizon data sheet: 81.7 (h) x 25.1 (v) deg, 240 000 points/s (first return), range precision
 // 2 cm, 0.5 m blind zone, 260 m at 80 % reflectivity, beam divergence 0.28 (v) x 0.03 (h) deg.
 // Its pattern (sweeps across the width) is not modelled: an elliptical rosette as the Avia's.
-SensorModel horizon() {
-  SensorModel s = mid40();
-  s.name = "horizon";
-  s.points_per_second = 240000;
-  s.fov_deg = 81.7;
-  s.fov_v_deg = 25.1;
-  s.min_range_m = 0.5;
-  return s;
-}
+SensorModel horizon() { return livox_rosette("horizon", 240000, 81.7, 25.1, 0.5, 260); }
 
 // HAP (TX) user manual: 120 (h) x 25 (v) deg, 452 000 points/s, 10 Hz, range random error < 2 cm
 // at 20 m, 0.5 m blind zone, 150 m at 10 % reflectivity, beam divergence 0.03 (h) x 0.28 (v) deg.
 // An elliptical rosette as the Avia's.
-SensorModel hap() {
-  SensorModel s = mid40();
-  s.name = "hap";
-  s.points_per_second = 452000;
-  s.fov_deg = 120;
-  s.fov_v_deg = 25;
-  s.min_range_m = 0.5;
-  s.max_range_m = 150;
-  return s;
-}
+SensorModel hap() { return livox_rosette("hap", 452000, 120, 25, 0.5, 150); }
 
 // Mid-360 data sheet: 360 deg by -7..+52 deg, 200 000 points/s (first return), 10 Hz, range
 // precision 2 cm at 10 m, 0.1 m blind zone, 70 m at 80 % reflectivity, four beams. Beam
