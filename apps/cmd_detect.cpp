@@ -194,16 +194,16 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
         << " lies above every intensity in the image (largest " << r.preprocessed.max_intensity
         << "), so no pixel is white; try --threshold otsu\n";
   }
-  if (r.threshold_retry && r.threshold_retry->found > 0 && r.threshold_retry->local) {
-    out << "note: the sensor preset's threshold " << r.threshold_retry->fixed
-        << " found no marker; the local threshold found " << r.threshold_retry->found
-        << " (a far marker's cells averaged by the beam)\n";
-  } else if (r.threshold_retry && r.threshold_retry->found > 0) {
-    out << "note: the sensor preset's threshold " << r.threshold_retry->fixed
-        << " found no marker; Otsu's threshold " << r.threshold_retry->otsu << " found "
-        << r.threshold_retry->found
-        << ": the print's intensity is not where the preset expects it (give --threshold to "
-           "choose one)\n";
+  if (r.threshold_retry && r.threshold_retry->found > 0) {
+    const FrameResult::ThresholdRetry& retry = *r.threshold_retry;
+    out << "note: the sensor preset's threshold " << retry.fixed << " found no marker; ";
+    if (retry.local)
+      out << "the local threshold found " << retry.found
+          << " (a far marker's cells averaged by the beam)\n";
+    else
+      out << "Otsu's threshold " << retry.otsu << " found " << retry.found
+          << ": the print's intensity is not where the preset expects it (give --threshold to "
+             "choose one)\n";
   }
   out << markers_found(r.markers.size(), r.unknown_ids_dropped) << "\n";
   out << std::fixed << std::setprecision(3);

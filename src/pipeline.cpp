@@ -378,23 +378,20 @@ void Pipeline::lift_markers(std::vector<Detection>& detections, const PointView&
     if (failure) std::rethrow_exception(failure);
 }
 
-std::optional<double> Pipeline::otsu_retry_threshold(const PreprocessedImage& image) const {
+bool Pipeline::fixed_threshold_may_be_retried(const PreprocessedImage& image) const {
   const PreprocessOptions& p = options_.preprocess;
-  if (!options_.retry_with_otsu || !p.threshold || !p.binarize || p.local_threshold ||
-      image.replaced_threshold || image.no_intensity)
-    return std::nullopt;
+  return p.threshold && p.binarize && !p.local_threshold && !image.replaced_threshold &&
+         !image.no_intensity;
+}
+
+std::optional<double> Pipeline::otsu_retry_threshold(const PreprocessedImage& image) const {
+  if (!options_.retry_with_otsu || !fixed_threshold_may_be_retried(image)) return std::nullopt;
   // Closer than this share of the fixed threshold, Otsu's is the same choice (the real Pandar64
   // frames: 96 against the preset's 100).
   constexpr double kLeastGap = 0.25;
   const double otsu = otsu_threshold(image);
   if (std::abs(otsu - image.threshold) < kLeastGap * std::abs(image.threshold)) return std::nullopt;
   return otsu;
-}
-
-bool Pipeline::local_retry_applies(const PreprocessedImage& image) const {
-  const PreprocessOptions& p = options_.preprocess;
-  return options_.retry_with_local_threshold && p.threshold && p.binarize && !p.local_threshold &&
-         !image.replaced_threshold && !image.no_intensity;
 }
 
 void Pipeline::run_detectors(const DetectorImages& images, std::vector<Detection>& out,
@@ -506,12 +503,12 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   r.times_ms.detect = watch.lap_ms();
   r.threshold_retry.reset();
   // Markers of ids not asked for (--ids) were found: the threshold shows markers.
-  const std::optional<double> otsu = detections.empty() && r.unknown_ids_dropped == 0
-                                         ? otsu_retry_threshold(r.preprocessed)
-                                         : std::nullopt;
+  const bool found_nothing = detections.empty() && r.unknown_ids_dropped == 0;
+  const std::optional<double> otsu =
+      found_nothing ? otsu_retry_threshold(r.preprocessed) : std::nullopt;
   r.times_ms.preprocess += watch.lap_ms();  // Otsu's histogram, else counted as the lift's
-  const bool local = !otsu && detections.empty() && r.unknown_ids_dropped == 0 &&
-                     local_retry_applies(r.preprocessed);
+  const bool local = found_nothing && !otsu && options_.retry_with_local_threshold &&
+                     fixed_threshold_may_be_retried(r.preprocessed);
   if (otsu || local) {
     if (otsu)
       binarize_at(r.preprocessed, *otsu, options_.preprocess, retry_detect_);

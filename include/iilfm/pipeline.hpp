@@ -204,10 +204,11 @@ class Pipeline {
   // (when given) too: on up to options_.detect_threads threads, one task per thread at a time.
   void run_detectors(const DetectorImages& images, std::vector<Detection>& out,
                      const std::function<void()>& beside);
+  // Whether this frame's threshold is a fixed one that either retry may replace: binarised with
+  // it, not replaced by Otsu's above every intensity, and the cloud carries intensity.
+  bool fixed_threshold_may_be_retried(const PreprocessedImage& image) const;
   // Otsu's threshold when PipelineOptions::retry_with_otsu applies to this frame's fixed one.
   std::optional<double> otsu_retry_threshold(const PreprocessedImage& image) const;
-  // Whether PipelineOptions::retry_with_local_threshold applies to this frame's fixed threshold.
-  bool local_retry_applies(const PreprocessedImage& image) const;
   // Drops undersampled detections and, on ring rows, those the ring samples contradict.
   void keep_measured_detections(std::vector<Detection>& detections, const FrameResult& r) const;
   // Refines, lifts and poses one detection (its plane fit's points gathered on `fit_threads`;
