@@ -205,7 +205,7 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
           << ": the print's intensity is not where the preset expects it (give --threshold to "
              "choose one)\n";
   }
-  out << markers_found(r.markers.size(), r.unknown_ids_dropped) << "\n";
+  out << markers_found(r) << "\n";
   out << std::fixed << std::setprecision(3);
   for (const MarkerResult& m : r.markers) {
     out << "  " << m.detection.family << " id " << m.detection.id << ":";

@@ -92,7 +92,7 @@ int run_detect_image(const ImageRunArgs& args, const PipelineOptions& options) {
     out << "image: " << raw.cols << "x" << raw.rows << " (2-D stages only), threshold "
         << (options.preprocess.local_threshold ? "local (" : "") << result.preprocessed.threshold
         << (options.preprocess.local_threshold ? " where flat)" : "") << "\n"
-        << markers_found(result.markers.size(), result.unknown_ids_dropped) << "\n"
+        << markers_found(result) << "\n"
         << std::fixed << std::setprecision(1);
     for (const MarkerResult& m : result.markers) {
       out << "  " << m.detection.family << " id " << m.detection.id << ":";

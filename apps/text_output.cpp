@@ -39,11 +39,14 @@ void write_text(const std::string& path, const std::string& text, const std::str
   if (!file || !(file << text) || !file.flush()) throw file_error(path, "cannot write " + what);
 }
 
-std::string markers_found(std::size_t reported, std::size_t unknown_ids_dropped) {
-  std::string text = std::to_string(reported) + " marker(s)";
-  if (unknown_ids_dropped > 0)
-    text += " (and " + std::to_string(unknown_ids_dropped) +
+std::string markers_found(const FrameResult& result) {
+  std::string text = std::to_string(result.markers.size()) + " marker(s)";
+  if (result.unknown_ids_dropped > 0)
+    text += " (and " + std::to_string(result.unknown_ids_dropped) +
             " of ids not given with --ids, not reported)";
+  if (result.not_square_dropped > 0)
+    text += "; " + std::to_string(result.not_square_dropped) +
+            " detection(s) dropped: their lifted corners are no square (chance matches)";
   return text;
 }
 

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "iilfm/pipeline.hpp"
+
 namespace iilfm::cli {
 
 bool is_stdout(const std::string& path);
@@ -21,8 +23,9 @@ bool stdout_claimed(const std::vector<std::pair<const char*, std::string>>& text
 // Where the human-readable report goes: stdout, or stderr when a result goes to stdout.
 std::ostream& report_stream(bool result_on_stdout);
 
-// The report's count of markers: "2 marker(s)", and those of ids not given with --ids.
-std::string markers_found(std::size_t reported, std::size_t unknown_ids_dropped);
+// The report's count of markers: "2 marker(s)", those of ids not given with --ids, and the
+// detections dropped because their lifted corners are no square.
+std::string markers_found(const FrameResult& result);
 
 // Writes `text` whole to `path` (stdout for "-") and flushes it; InputError "<path>: cannot write
 // <what>" when that fails.

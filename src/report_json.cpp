@@ -140,6 +140,8 @@ json result_to_json(const FrameResult& result, const InputInfo& input) {
   out["markers"] = markers;
   // --ids: markers found with other ids, left out of "markers" (absent when there were none).
   if (result.unknown_ids_dropped > 0) out["markers_not_reported"] = result.unknown_ids_dropped;
+  // Detections whose lifted corners are no square: chance matches, dropped (absent when none).
+  if (result.not_square_dropped > 0) out["detections_not_square"] = result.not_square_dropped;
   if (result.pose) {
     const LidarPose& p = *result.pose;
     const Eigen::Quaterniond q(p.T_world_lidar.linear());

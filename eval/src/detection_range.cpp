@@ -26,6 +26,7 @@ PipelineOptions range_pipeline_options(const SimulatedCase& c, RangeSettings set
     options.detector.apriltag.decode_gray = false;  // the paper's AprilTag reads the binary image
     options.retry_with_otsu = false;                // one naive threshold
     options.retry_with_local_threshold = false;
+    options.max_square_error = 0;  // every detection, square or not
   }
   return options;
 }

@@ -104,6 +104,13 @@ struct PipelineOptions {
   // white, while the local mean splits them. Not the default for near markers: a window smaller
   // than a cell breaks large cells into specks for ArUco (docs/sensors.md, "Detection range").
   bool retry_with_local_threshold = false;
+  // With the plane lift: drop a square marker whose four lifted corners lie farther from the
+  // nearest square of any size (RMS, square_shape.hpp) than this share of its edge and than 1.5
+  // footprints of the coarser pixel at its range. A printed square lifts to a square; a detector's
+  // chance match on speckle (tag16h5 matches about one noise quad in 550) lifts to whatever
+  // quadrilateral the speckle drew. Measured: true markers in the range walks at most 0.10 of the
+  // edge, chance matches 0.23 and more (docs/pipeline.md, "Square check"). 0 keeps all.
+  double max_square_error = 0.15;
 };
 
 struct MarkerResult {
@@ -156,6 +163,9 @@ struct FrameResult {
   std::optional<ThresholdRetry> threshold_retry;
   // PipelineOptions::only_known_ids: markers found whose ids were not known, so not reported.
   std::size_t unknown_ids_dropped = 0;
+  // PipelineOptions::max_square_error: detections dropped because their lifted corners are no
+  // square.
+  std::size_t not_square_dropped = 0;
 };
 
 // PipelineOptions::known_ids and the map's ids, per family, sorted and each once; InputError for
@@ -217,6 +227,8 @@ class Pipeline {
   MarkerResult lift_marker(Detection detection, const PointView& cloud, const ProjectedImage& image,
                            const ProjectedImage& edge_image, int fit_threads) const;
   void lift_markers(std::vector<Detection>& detections, const PointView& cloud, FrameResult& r);
+  // Whether a lifted square marker is too far from a square (PipelineOptions::max_square_error).
+  bool not_square(const MarkerResult& marker, const ImageGeometry& geometry) const;
   // The intensity the thresholds work in: normalised when normalisation is on.
   const cv::Mat& ring_intensity(const FrameResult& r) const;
 

@@ -113,6 +113,9 @@ class Result:
     def markers_not_reported(self) -> int:
         """Markers found whose ids were not among the ids= given (left out of markers)."""
     @property
+    def detections_not_square(self) -> int:
+        """Detections dropped because their lifted corners are no square (chance matches)."""
+    @property
     def intensity_image(self) -> npt.NDArray[np.float32]: ...
     @property
     def range_image(self) -> npt.NDArray[np.float32]: ...

@@ -401,6 +401,9 @@ void register_pipeline(py::module_& m) {
           "markers_not_reported", [](const Result& r) { return r.frame->unknown_ids_dropped; },
           "markers found whose ids were not among the ids= given, so left out of markers")
       .def_property_readonly(
+          "detections_not_square", [](const Result& r) { return r.frame->not_square_dropped; },
+          "detections dropped because their lifted corners are no square (chance matches)")
+      .def_property_readonly(
           "intensity_image",
           [](py::object self) {
             return mat_view(self.cast<Result&>().frame->image.intensity, self);

@@ -250,5 +250,6 @@ def test_ids_report_only_the_markers_given(scan):
     assert some.markers_not_reported == len(found) - len(some.markers)
     assert some.to_json()["markers_not_reported"] == some.markers_not_reported
     assert everything.markers_not_reported == 0
+    assert everything.detections_not_square == 0  # a printed marker lifts to a square
     with pytest.raises(iilfm.InputError, match="marker id 600 is not in apriltag:tag36h11"):
         iilfm.Pipeline(sensor="mid40", ids=[0, 600])
