@@ -527,12 +527,16 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
   std::vector<Detection> detections =
       detect_markers(detector_images(r.preprocessed, options_.preprocess), r);
   r.times_ms.detect = watch.lap_ms();
+  lift_markers(detections, cloud, r);
+  r.times_ms.lift = watch.lap_ms();
+
   r.threshold_retry.reset();
-  // Markers of ids not asked for (--ids) were found: the threshold shows markers.
-  const bool found_nothing = detections.empty() && r.unknown_ids_dropped == 0;
+  // Nothing but chance matches the square check dropped, and no markers of ids not asked for
+  // (--ids): the threshold shows no marker.
+  const bool found_nothing = r.markers.empty() && r.unknown_ids_dropped == 0;
   const std::optional<double> otsu =
       found_nothing ? otsu_retry_threshold(r.preprocessed) : std::nullopt;
-  r.times_ms.preprocess += watch.lap_ms();  // Otsu's histogram, else counted as the lift's
+  r.times_ms.preprocess += watch.lap_ms();  // Otsu's histogram, else counted as the pose's
   const bool local = found_nothing && !otsu && options_.retry_with_local_threshold &&
                      fixed_threshold_may_be_retried(r.preprocessed);
   if (otsu || local) {
@@ -544,17 +548,16 @@ const FrameResult& Pipeline::process_projected(const PointView& cloud, double pr
     DetectorImages images = detector_images(r.preprocessed, options_.preprocess);
     images.image = retry_detect_;
     detections = detect_markers(images, r);
+    r.times_ms.detect += watch.lap_ms();
+    lift_markers(detections, cloud, r);
+    r.times_ms.lift += watch.lap_ms();
     r.threshold_retry = FrameResult::ThresholdRetry{r.preprocessed.threshold, otsu.value_or(0),
-                                                    detections.size(), local};
-    if (!detections.empty()) {
+                                                    r.markers.size(), local};
+    if (!r.markers.empty()) {
       std::swap(r.preprocessed.detect, retry_detect_);
       if (otsu) r.preprocessed.threshold = *otsu;
     }
-    r.times_ms.detect += watch.lap_ms();
   }
-
-  lift_markers(detections, cloud, r);
-  r.times_ms.lift = watch.lap_ms();
 
   if (!options_.map) {
     r.pose_missing_reason = "no marker map given";

@@ -164,7 +164,7 @@ struct FrameResult {
   // PipelineOptions::only_known_ids: markers found whose ids were not known, so not reported.
   std::size_t unknown_ids_dropped = 0;
   // PipelineOptions::max_square_error: detections dropped because their lifted corners are no
-  // square.
+  // square, in the pass reported (the threshold retry's when one ran).
   std::size_t not_square_dropped = 0;
 };
 

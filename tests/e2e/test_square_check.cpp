@@ -47,6 +47,7 @@ PipelineOptions mid70_options(double max_square_error) {
 // Without markers the crate's side returns 40, the preset's threshold, so its binary image is
 // speckle; tag16h5 (30 codes of 16 bits, no bit corrected here) reads id 13 in one quad of it.
 // Its lifted corners are 6.7 to 15 cm apart, 0.23 of its 10 cm edge from the nearest square.
+// The preset then retries the frame with the local threshold (found nothing at its own).
 TEST(SquareCheck, DropsTheChanceMatchAMarkerFreeRoomGivesTag16h5) {
   const sim::SimResult room = mid70_room(false);
   Pipeline unchecked(mid70_options(0));
@@ -54,11 +55,16 @@ TEST(SquareCheck, DropsTheChanceMatchAMarkerFreeRoomGivesTag16h5) {
   ASSERT_EQ(seen.markers.size(), 1u);  // the chance match is there without the check
   EXPECT_EQ(seen.markers[0].detection.id, 13);
   EXPECT_EQ(seen.not_square_dropped, 0u);
+  EXPECT_FALSE(seen.threshold_retry);  // a marker was found: nothing to retry
 
   Pipeline checked(mid70_options(PipelineOptions{}.max_square_error));
   const FrameResult& r = checked.process(room.cloud);
   EXPECT_TRUE(r.markers.empty());
   EXPECT_EQ(r.not_square_dropped, 1u);
+  // A dropped chance match is no marker: the Livox preset's local retry runs, and finds nothing.
+  ASSERT_TRUE(r.threshold_retry);
+  EXPECT_TRUE(r.threshold_retry->local);
+  EXPECT_EQ(r.threshold_retry->found, 0u);
 }
 
 // The same room with its four 30 cm tag36h11 markers: all found, none dropped.
