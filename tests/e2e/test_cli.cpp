@@ -394,6 +394,18 @@ TEST(Cli, SensorsListsThePresets) {
   EXPECT_EQ(r.status, 0);
   for (const char* name : {"mid40", "vlp16", "vlp32c", "ultrapuck"})
     EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  // What the pipeline does with each preset's intensity: the Livox presets retry locally, the
+  // Ouster presets normalise for range and incidence.
+  const auto line_of = [&](const std::string& name) {
+    const std::size_t at = r.out.find("\n" + name + " ");
+    return at == std::string::npos ? std::string()
+                                   : r.out.substr(at + 1, r.out.find('\n', at + 1) - at - 1);
+  };
+  EXPECT_NE(line_of("mid40").find(" none "), std::string::npos) << line_of("mid40");
+  EXPECT_NE(line_of("mid40").find(" 40+local "), std::string::npos) << line_of("mid40");
+  EXPECT_NE(line_of("vlp16").find(" 40 "), std::string::npos) << line_of("vlp16");
+  EXPECT_EQ(line_of("vlp16").find("+local"), std::string::npos) << line_of("vlp16");
+  EXPECT_NE(line_of("os1-64").find(" range-incidence "), std::string::npos) << line_of("os1-64");
 }
 
 }  // namespace
