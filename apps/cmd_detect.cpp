@@ -176,7 +176,15 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   return options;
 }
 
-void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ostream& out) {
+// The size the map or --marker-size gives a marker (0: none).
+double known_size(const PipelineOptions& options, const Detection& d) {
+  if (options.map)
+    if (const MapMarker* mapped = options.map->find(d.family, d.id)) return mapped->size;
+  return options.marker_size.value_or(0);
+}
+
+void print_summary(const FrameResult& r, const PipelineOptions& options,
+                   const io::LoadedCloud& loaded, std::ostream& out) {
   const ImageGeometry& g = r.image.geometry;
   out << "cloud: " << loaded.stats.valid_points << " valid of " << loaded.stats.points_in_file
       << " points; image " << g.width << "x" << g.height << ", threshold "
@@ -216,6 +224,10 @@ void print_summary(const FrameResult& r, const io::LoadedCloud& loaded, std::ost
         out << " (unrecoverable)";
     }
     out << "\n";
+    if (m.size_disagrees)
+      out << "  note: it measures " << m.lifted_square->side_m << " m across its corners, not the "
+          << known_size(options, m.detection)
+          << " m given: the size is the black square's edge, without the white margin\n";
   }
   if (r.pose) {
     const Vec3 t = r.pose->T_world_lidar.translation();
@@ -365,7 +377,7 @@ int run_detect(const DetectArgs& args) {
   if (!args.image_path.empty()) write_overlay(args.image_path, result);
   if (!args.html_path.empty())
     write_html_report(args.html_path, {HtmlFrame{&result, info, PointView(loaded.cloud)}});
-  if (!args.quiet) print_summary(result, loaded, report);
+  if (!args.quiet) print_summary(result, pipeline.options(), loaded, report);
   return 0;
 }
 

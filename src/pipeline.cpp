@@ -169,6 +169,24 @@ bool undersampled(const Detection& d, double min_samples_per_cell) {
   return v_max - v_min + 1 < needed || u_max - u_min + 1 < needed;
 }
 
+// The nearest square to a square marker's four lifted corners; none for a board, a ring marker
+// or a corner that did not lift.
+std::optional<SquareShape> lifted_square_of(const MarkerResult& marker) {
+  if (marker.corners.size() != 4 || !marker.detection.keypoints_marker.empty()) return std::nullopt;
+  std::array<Vec3, 4> points;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (!marker.corners[k].valid()) return std::nullopt;
+    points[k] = marker.corners[k].point;
+  }
+  return nearest_square(points);
+}
+
+// The footprint of the image's coarser pixel at a square's centre: about the detector's own
+// corner error, which makes a marker a few pixels across measure less exactly.
+double coarse_footprint(const ImageGeometry& geometry, const SquareShape& square) {
+  return std::max(geometry.res_h, geometry.res_v) * square.centre.norm();
+}
+
 }  // namespace
 
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options) {
@@ -333,11 +351,18 @@ MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
       marker.corners.push_back(lift_paper(px, image, options_.lift_options));
   }
   marker.detection = std::move(detection);
+  marker.lifted_square = lifted_square_of(marker);
   const MapMarker* mapped =
       options_.map ? options_.map->find(marker.detection.family, marker.detection.id) : nullptr;
   marker.in_map = mapped != nullptr;
   const std::optional<double> size =
       mapped ? std::optional<double>(mapped->size) : options_.marker_size;
+  if (size && marker.lifted_square) {
+    // Measured: true sizes within 0.43 of this allowance on the range walks (docs/pipeline.md).
+    const double allowance =
+        0.1 * *size + 2 * coarse_footprint(image.geometry, *marker.lifted_square);
+    marker.size_disagrees = std::abs(marker.lifted_square->side_m - *size) > allowance;
+  }
   if (size)
     estimate_marker_pose(marker, *size, options_.fit_known_size, image, options_.edge_sigma_px);
   return marker;
@@ -388,20 +413,12 @@ bool Pipeline::not_square(const MarkerResult& marker, const ImageGeometry& geome
   // The paper's lift takes each corner's own range: a corner pixel on the wall behind distorts a
   // true marker's shape (measured 0.11 of the edge at 2 m on a Mid-40).
   if (options_.max_square_error <= 0 || options_.lift != LiftMethod::kPlane) return false;
-  const std::vector<LiftedCorner>& corners = marker.corners;
-  if (corners.size() != 4 || !marker.detection.keypoints_marker.empty()) return false;
-  std::array<Vec3, 4> points;
-  for (std::size_t k = 0; k < 4; ++k) {
-    if (!corners[k].valid()) return false;
-    points[k] = marker.lifted_points.empty() ? corners[k].point : marker.lifted_points[k];
-  }
+  if (!marker.lifted_square) return false;
   // The corners' own error: a detector's corner within a pixel or so of the edge it saw.
   constexpr double kNoiseFootprints = 1.5;
-  const SquareShape shape = nearest_square(points);
-  const double centre_range = (0.25 * (points[0] + points[1] + points[2] + points[3])).norm();
-  const double footprint = std::max(geometry.res_h, geometry.res_v) * centre_range;
-  return shape.rms_m > options_.max_square_error * shape.side_m &&
-         shape.rms_m > kNoiseFootprints * footprint;
+  const SquareShape& square = *marker.lifted_square;
+  return square.rms_m > options_.max_square_error * square.side_m &&
+         square.rms_m > kNoiseFootprints * coarse_footprint(geometry, square);
 }
 
 bool Pipeline::fixed_threshold_may_be_retried(const PreprocessedImage& image) const {

@@ -85,6 +85,13 @@ json marker_json(const MarkerResult& m, const ProjectedImage& image) {
                     {"rms_m", round_to(p.rms, 1e-6)},
                     {"surround_scale", p.surround_scale}};
   }
+  if (m.lifted_square) {
+    // The nearest square to the corners as lifted: the marker's measured size, and how far from
+    // square the corners were.
+    out["measured_size_m"] = round_to(m.lifted_square->side_m, 1e-6);
+    out["square_rms_m"] = round_to(m.lifted_square->rms_m, 1e-6);
+  }
+  if (m.size_disagrees) out["size_disagrees"] = true;  // with the map's or --marker-size
   if (m.T_lidar_marker) {
     out["T_lidar_marker"] = matrix_json(*m.T_lidar_marker);
     out["marker_fit_rms_m"] = round_to(m.marker_fit_rms, 1e-6);

@@ -20,6 +20,7 @@ SquareShape nearest_square(const std::array<Vec3, 4>& corners) {
   SquareShape shape;
   shape.side_m = T.topLeftCorner<3, 3>().col(0).norm();
   shape.rms_m = std::sqrt((fitted - to).colwise().squaredNorm().mean());
+  shape.centre = to.rowwise().mean();
   return shape;
 }
 

@@ -24,6 +24,7 @@
 #include "iilfm/preprocess.hpp"
 #include "iilfm/projection.hpp"
 #include "iilfm/sensor.hpp"
+#include "iilfm/square_shape.hpp"
 #include "iilfm/window_projection.hpp"
 
 namespace iilfm {
@@ -127,6 +128,13 @@ struct MarkerResult {
   // a measurement, and its covariance says so (a turn uniform over the circle).
   bool turn_known = true;
   double marker_fit_rms = 0;  // residual of that fit, metres: how far from a square of that size
+  // The nearest square of any size to the four corners as lifted (square markers whose four
+  // corners lifted): its edge is the marker's measured size.
+  std::optional<SquareShape> lifted_square;
+  // The size is known (map or marker_size) and the measured one differs from it by more than a
+  // tenth plus two footprints of the coarser pixel at the marker's range: the size given is
+  // likely not the black square's edge (the whole tag with its white margin, the sheet).
+  bool size_disagrees = false;
   // Covariance of T_lidar_marker, 6x6 (pose_covariance.hpp: marker-frame rotation, centre in the
   // LiDAR frame), and the joint covariance (3n x 3n) of the n lifted corners it was fitted to
   // (the valid ones, in order), which the LiDAR pose takes over.

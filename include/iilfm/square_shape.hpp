@@ -10,8 +10,9 @@
 namespace iilfm {
 
 struct SquareShape {
-  double side_m = 0;  // edge of the nearest square
-  double rms_m = 0;   // RMS distance of the corners from that square's corners
+  double side_m = 0;           // edge of the nearest square
+  double rms_m = 0;            // RMS distance of the corners from that square's corners
+  Vec3 centre = Vec3::Zero();  // the square's centre (the corners' mean)
 };
 
 // The square of any size, turn and place nearest (least squares) to four corners given in order

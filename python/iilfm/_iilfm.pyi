@@ -70,6 +70,15 @@ class Marker:
     @property
     def marker_fit_rms(self) -> float: ...
     @property
+    def measured_size(self) -> float:
+        """Edge of the nearest square to the four lifted corners, metres (NaN when not measured)."""
+    @property
+    def square_rms(self) -> float:
+        """How far the lifted corners were from that square, metres (NaN when not measured)."""
+    @property
+    def size_disagrees(self) -> bool:
+        """The measured size differs from the known one by more than its error allows."""
+    @property
     def hamming(self) -> int: ...
     @property
     def decision_margin(self) -> float: ...

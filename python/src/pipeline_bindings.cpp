@@ -128,9 +128,11 @@ struct Marker {
   int id = 0;
   py::object corners_px, corners_lidar, observed, T_lidar_marker, plane;
   double marker_fit_rms = 0, decision_margin = 0, coverage = 0;
+  double measured_size = std::nan(""), square_rms = std::nan("");
   int hamming = 0;
   bool in_map = false;
   bool turn_known = true;
+  bool size_disagrees = false;
 };
 
 struct Pose {
@@ -175,6 +177,11 @@ Marker marker_of(const MarkerResult& m, const ProjectedImage& image) {
   out.T_lidar_marker =
       m.T_lidar_marker ? py::object(to_numpy(m.T_lidar_marker->matrix())) : py::object(py::none());
   out.marker_fit_rms = m.marker_fit_rms;
+  if (m.lifted_square) {
+    out.measured_size = m.lifted_square->side_m;
+    out.square_rms = m.lifted_square->rms_m;
+  }
+  out.size_disagrees = m.size_disagrees;
   out.decision_margin = m.detection.decision_margin;
   out.hamming = m.detection.hamming;
   out.in_map = m.in_map;
@@ -362,6 +369,15 @@ void register_pipeline(py::module_& m) {
                     "convention (y as near the LiDAR's up as the face allows), not measured")
       .def_readonly("marker_fit_rms", &Marker::marker_fit_rms,
                     "metres: how far the lifted corners were from a square of the known size")
+      .def_readonly("measured_size", &Marker::measured_size,
+                    "metres: edge of the nearest square to the four lifted corners (NaN when a "
+                    "corner did not lift, or for boards and ring markers)")
+      .def_readonly("square_rms", &Marker::square_rms,
+                    "metres: how far the lifted corners were from that square")
+      .def_readonly("size_disagrees", &Marker::size_disagrees,
+                    "the measured size differs from the known one (map or marker_size) by more "
+                    "than a tenth plus two pixel footprints: the size given is likely not the "
+                    "black square's edge")
       .def_readonly("hamming", &Marker::hamming, "bits corrected while decoding")
       .def_readonly("decision_margin", &Marker::decision_margin, "decoder's confidence")
       .def_readonly("in_map", &Marker::in_map, "the marker is in the marker map")

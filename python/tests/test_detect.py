@@ -253,3 +253,17 @@ def test_ids_report_only_the_markers_given(scan):
     assert everything.detections_not_square == 0  # a printed marker lifts to a square
     with pytest.raises(iilfm.InputError, match="marker id 600 is not in apriltag:tag36h11"):
         iilfm.Pipeline(sensor="mid40", ids=[0, 600])
+
+
+def test_the_measured_size_is_the_black_squares_edge():
+    """Each marker's four lifted corners measure its size (the nearest square's edge); a size
+    given a quarter too large (the whole tag36h11 with its white margin) is flagged."""
+    cloud, _ = iilfm.simulate(sensor="mid40", seed=1, distance=2.0, marker_size=0.172)
+    right = iilfm.Pipeline("mid40", marker_size=0.172).detect(cloud).markers
+    assert [m.id for m in right] == [0]
+    assert abs(right[0].measured_size - 0.172) < 0.002
+    assert right[0].square_rms < 0.002
+    assert not right[0].size_disagrees
+    wrong = iilfm.Pipeline("mid40", marker_size=0.215).detect(cloud)
+    assert wrong.markers[0].size_disagrees
+    assert wrong.to_json()["markers"][0]["size_disagrees"] is True

@@ -24,9 +24,11 @@ std::array<Vec3, 4> placed(const Isometry3& T, std::array<Vec3, 4> corners) {
 TEST(NearestSquare, ASquareAnywhereIsItselfWithItsEdge) {
   std::mt19937 rng(3);
   for (const double size : {0.05, 0.172, 1.0}) {
-    const SquareShape s = nearest_square(placed(some_pose(rng), marker_frame_corners(size)));
+    const Isometry3 T = some_pose(rng);
+    const SquareShape s = nearest_square(placed(T, marker_frame_corners(size)));
     EXPECT_NEAR(s.side_m, size, 1e-12 * size);
     EXPECT_LT(s.rms_m, 1e-12);
+    EXPECT_LT((s.centre - T.translation()).norm(), 1e-12);
   }
 }
 

@@ -1,10 +1,12 @@
-// PipelineOptions::max_square_error: a detector's chance match on speckle lifts to no square and
-// is dropped; printed markers lift to squares and stay.
+// The nearest square to a marker's lifted corners. PipelineOptions::max_square_error: a
+// detector's chance match on speckle lifts to no square and is dropped; printed markers lift to
+// squares and stay. MarkerResult::size_disagrees: the square's edge against the size given.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
+#include "iilfm/eval/case.hpp"
 #include "iilfm/pipeline.hpp"
 #include "iilfm/sensor.hpp"
 #include "iilfm/sim/physics_request.hpp"
@@ -104,6 +106,58 @@ TEST(SquareCheck, TheCliCountsWhatItDropped) {
   EXPECT_NE(r.out.find("0 marker(s); 1 detection(s) dropped: their lifted corners are no square"),
             std::string::npos)
       << r.out;
+}
+
+// A 17.2 cm tag 2 m from a Mid-40 (40 frames) and a 40 cm one 10 m from an ULTRA Puck: the
+// measured size is the black square's edge within its allowance, and a size a quarter too large
+// (the whole tag36h11 with its white margin: 10 cells, not 8) disagrees where the scan can tell.
+TEST(SizeCheck, TheMeasuredSizeIsTheBlackSquaresEdge) {
+  struct Case {
+    const char* sensor;
+    double distance_m, size_m, most_error_m;
+    bool margin_told;  // whether a quarter too large is beyond the scan's allowance
+  };
+  // Measured (seed 1): Mid-40 0.3 mm, ULTRA Puck 12 mm under (allowance 156 mm: its rings are
+  // 58 mm apart there).
+  for (const Case& k :
+       {Case{"mid40", 2, 0.172, 0.002, true}, Case{"ultrapuck", 10, 0.4, 0.02, false}}) {
+    SCOPED_TRACE(k.sensor);
+    const eval::SimulatedCase c =
+        eval::simulate_case(eval::tag_wall_spec(k.sensor, k.distance_m, k.size_m), 1);
+    for (const double given : {k.size_m, 1.25 * k.size_m}) {
+      PipelineOptions options = eval::pipeline_options_for(c, LiftMethod::kPlane);
+      options.map.reset();
+      options.marker_size = given;
+      Pipeline pipeline(options);
+      const FrameResult& r = pipeline.process(c.scan.cloud);
+      ASSERT_EQ(r.markers.size(), 1u);
+      const MarkerResult& m = r.markers[0];
+      ASSERT_TRUE(m.lifted_square);
+      EXPECT_NEAR(m.lifted_square->side_m, k.size_m, k.most_error_m);
+      EXPECT_EQ(m.size_disagrees, given != k.size_m && k.margin_told) << "given " << given;
+    }
+  }
+}
+
+// The CLI notes a disagreeing size under the marker, and the JSON flags it.
+TEST(SizeCheck, TheCliSaysWhenTheSizeGivenIsNotTheMeasuredOne) {
+  const std::string sample = std::string(IILFM_SOURCE_DIR) + "/data/sample/mid40_tag_wall.pcd";
+  const std::string json = (cli_temp_dir() / "size.json").string();
+  CliRun r = run_cli("detect " + sample + " --sensor mid40 --marker-size 0.172 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(j["markers"].size(), 1u);
+  EXPECT_NEAR(j["markers"][0]["measured_size_m"].get<double>(), 0.172, 0.002);
+  EXPECT_LT(j["markers"][0]["square_rms_m"].get<double>(), 0.002);
+  EXPECT_FALSE(j["markers"][0].contains("size_disagrees"));
+  EXPECT_EQ(r.out.find("note: it measures"), std::string::npos) << r.out;
+
+  r = run_cli("detect " + sample + " --sensor mid40 --marker-size 0.215 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(j["markers"][0].value("size_disagrees", false), true);
+  EXPECT_NE(r.out.find("note: it measures 0.17"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("not the 0.215 m given"), std::string::npos) << r.out;
 }
 
 }  // namespace
