@@ -1,5 +1,6 @@
 #include "detect_sequence.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -99,6 +100,10 @@ struct Counts {
   // Results whose markers were found only at Otsu's threshold (PipelineOptions::retry_with_otsu).
   std::size_t found_at_otsu = 0;
   double threshold = 0;
+  // Results with a marker whose measured size disagrees with the one given
+  // (MarkerResult::size_disagrees), and the first such marker, as "family/id".
+  std::size_t size_disagrees = 0;
+  std::string size_disagrees_first;
 };
 
 // Whether this result is the one the report shows in full: the selected frame, else the latest
@@ -180,6 +185,14 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           ++counts.found_at_otsu;
           counts.threshold = result.threshold_retry->fixed;
         }
+        const auto disagreeing =
+            std::find_if(result.markers.begin(), result.markers.end(),
+                         [](const MarkerResult& m) { return m.size_disagrees; });
+        if (disagreeing != result.markers.end()) {
+          if (counts.size_disagrees++ == 0)
+            counts.size_disagrees_first =
+                disagreeing->detection.family + "/" + std::to_string(disagreeing->detection.id);
+        }
         if (!result.markers.empty()) ++counts.with_markers;
         if (result.pose) {
           ++counts.with_pose;
@@ -245,6 +258,13 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
           << counts.threshold
           << " found no marker and Otsu's threshold found some: the print's intensity is not "
              "where the preset expects it (image.threshold_retry; give --threshold to choose one)"
+          << std::endl;
+    if (counts.size_disagrees > 0)
+      out << "note: in " << counts.size_disagrees << " result(s) a marker (first "
+          << counts.size_disagrees_first
+          << ") measured another size than the map or --marker-size gives "
+             "(markers[].size_disagrees, "
+             "measured_size_m): the size is the black square's edge, without the white margin"
           << std::endl;
     if (counts.no_intensity > 0)
       out << "warning: in " << counts.no_intensity

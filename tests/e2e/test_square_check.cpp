@@ -3,6 +3,7 @@
 // squares and stay. MarkerResult::size_disagrees: the square's edge against the size given.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
@@ -158,6 +159,20 @@ TEST(SizeCheck, TheCliSaysWhenTheSizeGivenIsNotTheMeasuredOne) {
   EXPECT_EQ(j["markers"][0].value("size_disagrees", false), true);
   EXPECT_NE(r.out.find("note: it measures 0.17"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("not the 0.215 m given"), std::string::npos) << r.out;
+
+  // A sequence (a folder of two such scans) counts the results in its closing summary.
+  const std::filesystem::path folder = cli_temp_dir() / "size_frames";
+  std::filesystem::create_directories(folder);
+  for (const char* name : {"000000.pcd", "000001.pcd"})
+    std::filesystem::copy_file(sample, folder / name,
+                               std::filesystem::copy_options::overwrite_existing);
+  r = run_cli("detect " + folder.string() + " --sensor mid40 --marker-size 0.215 --jsonl " +
+              (cli_temp_dir() / "size.jsonl").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("note: in 2 result(s) a marker (first apriltag:tag36h11/0) measured another "
+                       "size"),
+            std::string::npos)
+      << r.out;
 }
 
 }  // namespace
