@@ -53,6 +53,7 @@ struct DetectArgs {
   bool no_gray_decode = false;
   bool full_resolution_quads = false;
   bool no_ring_decode = false;
+  bool no_square_check = false;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
   double blur = 0;
   bool gray_input = false;
@@ -149,6 +150,7 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   options.preprocess.square_pixels = !args.no_square_pixels;
   options.edge_refine = !args.no_edge_refine;
   options.ring_decode = !args.no_ring_decode;
+  if (args.no_square_check) options.max_square_error = 0;
   options.ring_candidates = args.ring_candidates;
   set_collision(args.collision, options);
   set_lift(args.lift, options);
@@ -446,6 +448,9 @@ Runner register_detect_command(CLI::App& app) {
   cmd->add_flag("--no-ring-decode", args->no_ring_decode,
                 "On ring rows, do not check detections against the cells read from the rings "
                 "that crossed them (nor keep the ones they confirm below one ring per cell)");
+  cmd->add_flag("--no-square-check", args->no_square_check,
+                "Keep detections whose lifted corners lie far from any square (chance matches on "
+                "speckle are dropped by default)");
   cmd->add_flag("--ring-candidates,!--no-ring-candidates", args->ring_candidates,
                 "On ring rows, also decode dark squares that no detector decoded from the rings "
                 "that crossed them (default: range beyond one ring per cell row; a few ms a "

@@ -196,6 +196,7 @@ class Pipeline:
         search_regions: bool = True,
         gray_decode: bool = True,
         half_resolution: bool = True,
+        square_check: bool = True,
     ) -> None: ...
     def detect(self, points: Points) -> Result:
         """Runs every stage on one frame; float32 points are read in place."""

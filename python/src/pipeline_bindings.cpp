@@ -37,6 +37,7 @@ struct Options {
   bool gray = false, refine_edges = true;
   bool ring_decode = PipelineOptions{}.ring_decode;
   bool ring_candidates = PipelineOptions{}.ring_candidates;
+  bool square_check = true;
   bool search_regions = AprilTagOptions{}.search_regions;
   bool gray_decode = AprilTagOptions{}.decode_gray;
   bool half_resolution = true;
@@ -80,6 +81,7 @@ PipelineOptions pipeline_options(const Options& a) {
   options.pose.refine = pose_refine_named(a.pose_refine);
   options.ring_decode = a.ring_decode;
   options.ring_candidates = a.ring_candidates;
+  if (!a.square_check) options.max_square_error = 0;
 
   // The ranges `iilfm detect` enforces on these options.
   require_range(a.decimate, 1, 8, "--decimate");
@@ -552,7 +554,8 @@ void register_pipeline(py::module_& m) {
                       std::string aruco_refine, int aruco_window_min, int aruco_window_max,
                       int aruco_window_step, std::string pose_refine,
                       std::string normalise_intensity, bool ring_decode, bool ring_candidates,
-                      bool search_regions, bool gray_decode, bool half_resolution) {
+                      bool search_regions, bool gray_decode, bool half_resolution,
+                      bool square_check) {
             Options o;
             o.sensor = std::move(sensor);
             o.markers = std::move(markers);
@@ -582,6 +585,7 @@ void register_pipeline(py::module_& m) {
             o.search_regions = search_regions;
             o.gray_decode = gray_decode;
             o.half_resolution = half_resolution;
+            o.square_check = square_check;
             return std::make_unique<PyPipeline>(o);
           }),
           py::arg("sensor") = py::none(), py::arg("markers") = std::vector<std::string>{},
@@ -600,6 +604,7 @@ void register_pipeline(py::module_& m) {
           py::arg("ring_candidates") = PipelineOptions{}.ring_candidates,
           py::arg("search_regions") = AprilTagOptions{}.search_regions,
           py::arg("gray_decode") = AprilTagOptions{}.decode_gray, py::arg("half_resolution") = true,
+          py::arg("square_check") = true,
           "sensor: preset name (`iilfm sensors`), or give res_h and res_v in degrees; with "
           "neither, the resolution is estimated from the first cloud detected (as `iilfm "
           "detect` does without --sensor) and kept for later frames (see resolution).\n"
@@ -613,7 +618,7 @@ void register_pipeline(py::module_& m) {
           "refine_edges=False is --no-refine-edges; gray=True is --gray; ring_decode=False is "
           "--no-ring-decode; ring_candidates=False is --no-ring-candidates; search_regions=False "
           "is --no-search-regions; gray_decode=False is --no-gray-decode; half_resolution=False is "
-          "--full-resolution-quads).\n"
+          "--full-resolution-quads; square_check=False is --no-square-check).\n"
           "Raises InputError with the program's message for bad options, presets or maps.")
       .def("detect", &PyPipeline::detect, py::arg("points"),
            "Runs every stage on one frame. points: an (N, >=4) array of x, y, z, intensity[, ...] "

@@ -267,3 +267,7 @@ def test_the_measured_size_is_the_black_squares_edge():
     wrong = iilfm.Pipeline("mid40", marker_size=0.215).detect(cloud)
     assert wrong.markers[0].size_disagrees
     assert wrong.to_json()["markers"][0]["size_disagrees"] is True
+    # square_check=False (--no-square-check) keeps every detection; the printed tag is kept either way.
+    unchecked = iilfm.Pipeline("mid40", marker_size=0.172, square_check=False).detect(cloud)
+    assert [m.id for m in unchecked.markers] == [0]
+    assert unchecked.detections_not_square == 0

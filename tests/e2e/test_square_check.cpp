@@ -107,6 +107,18 @@ TEST(SquareCheck, TheCliCountsWhatItDropped) {
   EXPECT_NE(r.out.find("0 marker(s); 1 detection(s) dropped: their lifted corners are no square"),
             std::string::npos)
       << r.out;
+
+  // --no-square-check keeps it.
+  const CliRun kept =
+      run_cli("detect " + pcd +
+              " --sensor mid70 --marker apriltag:tag16h5 --no-square-check --json " + json);
+  ASSERT_EQ(kept.status, 0) << kept.err;
+  const nlohmann::json k = nlohmann::json::parse(slurp(json));
+  ASSERT_EQ(k["markers"].size(), 1u);
+  EXPECT_EQ(k["markers"][0]["id"], 13);
+  EXPECT_GT(k["markers"][0]["square_rms_m"].get<double>(),
+            0.15 * k["markers"][0]["measured_size_m"].get<double>());
+  EXPECT_FALSE(k.contains("detections_not_square"));
 }
 
 // A 17.2 cm tag 2 m from a Mid-40 (40 frames) and a 40 cm one 10 m from an ULTRA Puck: the
