@@ -262,8 +262,7 @@ int run_detect_sequence(const SequenceArgs& args, const PipelineFactory& make_op
     if (counts.size_disagrees > 0)
       out << "note: in " << counts.size_disagrees << " result(s) a marker (first "
           << counts.size_disagrees_first
-          << ") measured another size than the map or --marker-size gives "
-             "(markers[].size_disagrees, "
+          << ") measured another size than the map or --marker-size gives (size_disagrees, "
              "measured_size_m): the size is the black square's edge, without the white margin"
           << std::endl;
     if (counts.no_intensity > 0)
