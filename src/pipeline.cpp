@@ -181,10 +181,29 @@ std::optional<SquareShape> lifted_square_of(const MarkerResult& marker) {
   return nearest_square(points);
 }
 
-// The footprint of the image's coarser pixel at a square's centre: about the detector's own
-// corner error, which makes a marker a few pixels across measure less exactly.
-double coarse_footprint(const ImageGeometry& geometry, const SquareShape& square) {
-  return std::max(geometry.res_h, geometry.res_v) * square.centre.norm();
+// The footprint, at a lifted square marker's range, of the image's coarser pixel where the marker
+// lies: about the detector's own corner error, which makes a marker a few pixels across measure
+// less exactly. Ring rows are as far apart as the widest gap between the rings the marker spans
+// (a VLP-32C's rings are 0.33 deg apart at the horizon and up to 9 deg below it).
+double coarse_footprint(const ImageGeometry& geometry, const MarkerResult& marker) {
+  double row = geometry.res_v;
+  const std::vector<double>& rings = geometry.row_elevation;
+  if (!rings.empty() && !marker.detection.corners_px.empty()) {
+    double v_min = 1e18, v_max = -1e18;
+    for (const Vec2& p : marker.detection.corners_px) {
+      v_min = std::min(v_min, p.y());
+      v_max = std::max(v_max, p.y());
+    }
+    const int last = static_cast<int>(rings.size()) - 1;
+    const int top = std::clamp(static_cast<int>(std::floor(v_min)), 0, last);
+    const int bottom = std::clamp(static_cast<int>(std::ceil(v_max)), 0, last);
+    row = 0;
+    for (int r = std::max(top, 1); r <= std::max(bottom, 1) && r <= last; ++r)
+      row = std::max(row,
+                     rings[static_cast<std::size_t>(r - 1)] - rings[static_cast<std::size_t>(r)]);
+    if (!(row > 0)) row = geometry.res_v;
+  }
+  return std::max(geometry.res_h, row) * marker.lifted_square->centre.norm();
 }
 
 }  // namespace
@@ -359,8 +378,7 @@ MarkerResult Pipeline::lift_marker(Detection detection, const PointView& cloud,
       mapped ? std::optional<double>(mapped->size) : options_.marker_size;
   if (size && marker.lifted_square) {
     // Measured: true sizes within 0.43 of this allowance on the range walks (docs/pipeline.md).
-    const double allowance =
-        0.1 * *size + 2 * coarse_footprint(image.geometry, *marker.lifted_square);
+    const double allowance = 0.1 * *size + 2 * coarse_footprint(image.geometry, marker);
     marker.size_disagrees = std::abs(marker.lifted_square->side_m - *size) > allowance;
   }
   if (size)
@@ -418,7 +436,7 @@ bool Pipeline::not_square(const MarkerResult& marker, const ImageGeometry& geome
   constexpr double kNoiseFootprints = 1.5;
   const SquareShape& square = *marker.lifted_square;
   return square.rms_m > options_.max_square_error * square.side_m &&
-         square.rms_m > kNoiseFootprints * coarse_footprint(geometry, square);
+         square.rms_m > kNoiseFootprints * coarse_footprint(geometry, marker);
 }
 
 bool Pipeline::fixed_threshold_may_be_retried(const PreprocessedImage& image) const {
