@@ -107,10 +107,11 @@ struct PipelineOptions {
   bool retry_with_local_threshold = false;
   // With the plane lift: drop a square marker whose four lifted corners lie farther from the
   // nearest square of any size (RMS, square_shape.hpp) than this share of its edge and than 1.5
-  // footprints of the coarser pixel at its range (on ring rows: the widest ring gap it spans). A printed square lifts to a square; a detector's
-  // chance match on speckle (tag16h5 matches about one noise quad in 550) lifts to whatever
-  // quadrilateral the speckle drew. Measured: true markers in the range walks at most 0.10 of the
-  // edge, chance matches 0.23 and more (docs/pipeline.md, "Square check"). 0 keeps all.
+  // footprints of the coarser pixel at its range (on ring rows: the widest ring gap it spans). A
+  // printed square lifts to a square; a detector's chance match on speckle (tag16h5 matches about
+  // one noise quad in 550) lifts to whatever quadrilateral the speckle drew. Measured: true markers
+  // in the range walks at most 0.122 of the edge, chance matches 0.23 and more (docs/pipeline.md,
+  // "Square check"). 0 keeps all.
   double max_square_error = 0.15;
 };
 
