@@ -178,13 +178,6 @@ PipelineOptions pipeline_options(const DetectArgs& args, const PointCloud& cloud
   return options;
 }
 
-// The size the map or --marker-size gives a marker (0: none).
-double known_size(const PipelineOptions& options, const Detection& d) {
-  if (options.map)
-    if (const MapMarker* mapped = options.map->find(d.family, d.id)) return mapped->size;
-  return options.marker_size.value_or(0);
-}
-
 void print_summary(const FrameResult& r, const PipelineOptions& options,
                    const io::LoadedCloud& loaded, std::ostream& out) {
   const ImageGeometry& g = r.image.geometry;
@@ -228,7 +221,7 @@ void print_summary(const FrameResult& r, const PipelineOptions& options,
     out << "\n";
     if (m.size_disagrees)
       out << "  note: it measures " << m.lifted_square->side_m << " m across its corners, not the "
-          << known_size(options, m.detection)
+          << given_size(options, m.detection).value_or(0)
           << " m given: the size is the black square's edge, without the white margin\n";
   }
   if (r.pose) {

@@ -184,6 +184,9 @@ KnownIds known_ids_of(const PipelineOptions& options);
 // Drops the detections whose ids `known` does not hold; returns how many.
 std::size_t drop_unknown_ids(const KnownIds& known, std::vector<Detection>& detections);
 
+// The edge a marker is given: the map's when the map holds it, else options.marker_size.
+std::optional<double> given_size(const PipelineOptions& options, const Detection& detection);
+
 // Sets the preset's image resolution, field of view, naive threshold and intensity normalisation.
 void apply_sensor_preset(const SensorPreset& preset, PipelineOptions& options);
 
