@@ -179,27 +179,26 @@ float masked_choice(float a, float b, std::uint32_t mask) {
   return out;
 }
 
-// Pass 3's input: each point's pixel (-1 outside the image), range, squared offset from the pixel
-// centre and intensity.
+// Pass 3's input: each point's pixel (-1 outside the image), range and intensity.
 struct PointsToBin {
   const std::int32_t* pixel;
   const float* range;
-  const float* offset;
   StridedColumn<float> intensity;
   std::size_t n;
 };
 
 // Pass 3: bins the points whose pixel lies in [first, last) (paper Eq. 2, non-mirrored) and
-// returns how many it binned. The Livox rosette visits pixels in scattered order, so the pixel of
-// the point some iterations ahead is prefetched and the misses overlap. Which point lies nearest
-// its pixel centre is as good as random, so that choice is made with masks (masked_choice): as a
-// branch it was mispredicted so often that it took a third of this pass (Mid-40, 60 frames).
+// returns how many it binned. A pixel keeps the sums of its points and the index of the last one
+// (lifting reads points only where a pixel has one); with kNearest, the range, intensity and
+// index of its nearest point, chosen with masks (masked_choice): which point is nearest is as good
+// as random, and a branch would be mispredicted often. The Livox rosette visits pixels in
+// scattered order, so the pixel of the point some iterations ahead is prefetched and the misses
+// overlap.
 template <bool kNearest, bool kPrefetch, typename Accumulator>
 std::size_t bin_points(const PointsToBin& points, std::size_t first, std::size_t last,
                        Accumulator* __restrict pixels) {
   const std::int32_t* __restrict pixel = points.pixel;
   const float* __restrict range = points.range;
-  const float* __restrict offset = points.offset;
   const float* __restrict intensity = points.intensity.data;
   const std::ptrdiff_t stride = points.intensity.stride;
   const std::size_t n = points.n;
@@ -207,7 +206,6 @@ std::size_t bin_points(const PointsToBin& points, std::size_t first, std::size_t
   const auto span = static_cast<std::uint32_t>(last - first);  // unsigned: -1 falls outside too
   const auto in_part = [&](std::int32_t p) { return static_cast<std::uint32_t>(p - lo) < span; };
   constexpr std::size_t kAhead = 32;
-  constexpr std::uint32_t kCountMask = Accumulator::kCountMask;
   std::size_t projected = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (kPrefetch && i + kAhead < n) {
@@ -217,27 +215,21 @@ std::size_t bin_points(const PointsToBin& points, std::size_t first, std::size_t
     const std::int32_t p = pixel[i];
     if (!in_part(p)) continue;
     Accumulator& px = pixels[p];
-    const std::uint32_t word = px.count_offset;
-    const std::uint32_t count = word & kCountMask;
-    if (count == kCountMask) continue;  // a full pixel keeps a true mean
     const float r = range[i], value = intensity[static_cast<std::ptrdiff_t>(i) * stride];
+    const auto index = static_cast<std::int32_t>(i);
     if constexpr (kNearest) {
       const std::uint32_t nearer =
-          0u - static_cast<std::uint32_t>((count == 0) | (r < px.range_sum));
+          0u - static_cast<std::uint32_t>((px.count == 0) | (r < px.range_sum));
       px.range_sum = masked_choice(r, px.range_sum, nearer);
       px.intensity_sum = masked_choice(value, px.intensity_sum, nearer);
+      px.index = static_cast<std::int32_t>(masked_choice(
+          static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(px.index), nearer));
     } else {
       px.range_sum += r;
       px.intensity_sum += value;
+      px.index = index;
     }
-    // Squared offsets lie in [0, 0.5] pixel^2; 8 bits resolve them to 0.002. An empty pixel's
-    // best is 256, above every offset.
-    const std::uint32_t off = std::min(static_cast<std::uint32_t>(offset[i] * 510.0f), 255u);
-    const std::uint32_t best = count == 0 ? 256u : word >> 24;
-    const std::uint32_t closer = 0u - static_cast<std::uint32_t>(off < best);  // a mask
-    px.index = static_cast<std::int32_t>(
-        masked_choice(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(px.index), closer));
-    px.count_offset = (masked_choice(off, best, closer) << 24) | (count + 1);
+    ++px.count;
     ++projected;
   }
   return projected;
@@ -253,7 +245,8 @@ void write_block(const Accumulator* __restrict pixels, std::size_t n, bool neare
                  std::int32_t* __restrict count) {
   for (std::size_t p = 0; p < n; ++p) {
     const Accumulator& px = pixels[p];
-    const std::uint32_t n_px = px.count_offset & Accumulator::kCountMask;
+    // Counts lie below 2^31 (points are indexed by int32); saying so keeps the loop vectorised.
+    const std::uint32_t n_px = px.count & 0x7fffffffu;
     const auto n_signed = static_cast<std::int32_t>(n_px);
     const float scale = (nearest || n_px <= 1) ? 1.0f : 1.0f / static_cast<float>(n_signed);
     range[p] = px.range_sum * scale;
@@ -299,7 +292,6 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   elevation_.resize(n);
   range_.resize(n);
   pixel_.resize(n);
-  offset_.resize(n);
 
   const int point_parts = parts_for(options_.threads, n, kMinPointsPerPart);
   in_parts(point_parts, [&](int k, int parts) {
@@ -315,7 +307,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
       outside[k] = detail::pixels_of_points(
           geometry, static_cast<std::int32_t>(accumulator_row_stride(geometry.width)),
           azimuth_.data() + begin, elevation_.data() + begin, range_.data() + begin, end - begin,
-          pixel_.data() + begin, offset_.data() + begin);
+          pixel_.data() + begin);
     });
     std::size_t sum = 0;
     for (int k = 0; k < point_parts; ++k) sum += outside[k];
@@ -366,7 +358,6 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
     g = geometry_for(options_.field_of_view && inside(*options_.field_of_view, cloud_extent)
                          ? *options_.field_of_view
                          : cloud_extent);
-    // A ring is one row, so only the column offset decides which point represents the pixel.
     const bool by_field = !rings->row_of_ring.empty();
     const RingRowLookup lookup(by_field ? RingStructure{} : *rings);
     const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / res_h);
@@ -382,7 +373,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
       }
       detail::ring_pixels_of_points(g, row_stride, rings->row_of_ring.data(),
                                     rings->row_of_ring.size(), ring, azimuth_.data(), range_.data(),
-                                    n, pixel_.data(), offset_.data());
+                                    n, pixel_.data());
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         pixel_[i] = -1;
@@ -392,9 +383,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
         if (!(u >= -0.5f && u < u_end)) continue;
         const int col = static_cast<int>(u + 0.5f);
         if (col >= g.width) continue;
-        const float du = u - static_cast<float>(col);
         pixel_[i] = lookup.row(elevation_[i]) * row_stride + col;
-        offset_[i] = du * du;
       }
     }
   }
@@ -420,7 +409,7 @@ void SphericalProjector::project(const PointView& cloud, ProjectedImage& out) {
   std::size_t projected_in[kMaxParts] = {};
   in_parts(pixel_parts, [&](int k, int parts) {
     const auto [first, last] = part_range(total, k, parts);
-    const PointsToBin points{pixel_.data(), range_.data(), offset_.data(), cloud.intensity, n};
+    const PointsToBin points{pixel_.data(), range_.data(), cloud.intensity, n};
     projected_in[k] =
         nearest ? (prefetch ? bin_points<true, true>(points, first, last, pixels_.data())
                             : bin_points<true, false>(points, first, last, pixels_.data()))

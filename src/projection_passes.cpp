@@ -25,8 +25,7 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g, std::int3
                                                const float* __restrict azimuth,
                                                const float* __restrict elevation,
                                                const float* __restrict range, std::size_t n,
-                                               std::int32_t* __restrict pixel,
-                                               float* __restrict offset) {
+                                               std::int32_t* __restrict pixel) {
   const float u0 = static_cast<float>(g.u0), v0 = static_cast<float>(g.v0);
   const float inv_res_h = static_cast<float>(1 / g.res_h),
               inv_res_v = static_cast<float>(1 / g.res_v);
@@ -47,9 +46,7 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g, std::int3
     const float uc = std::min(u_end, std::max(0.0f, u + 0.5f)),
                 vc = std::min(v_end, std::max(0.0f, v + 0.5f));
     const std::int32_t col = static_cast<std::int32_t>(uc), row = static_cast<std::int32_t>(vc);
-    const float du = u - static_cast<float>(col), dv = v - static_cast<float>(row);
     pixel[i] = in ? row * row_stride + col : -1;
-    offset[i] = du * du + dv * dv;
     outside += in ? 0 : 1;
   }
   return outside;
@@ -58,8 +55,7 @@ IILFM_AVX2_CLONES std::size_t pixels_of_points(const ImageGeometry& g, std::int3
 IILFM_AVX2_CLONES void ring_pixels_of_points(
     const ImageGeometry& g, std::int32_t row_stride, const std::int32_t* __restrict row_of_ring,
     std::size_t ring_ids, const std::uint16_t* __restrict ring, const float* __restrict azimuth,
-    const float* __restrict range, std::size_t n, std::int32_t* __restrict pixel,
-    float* __restrict offset) {
+    const float* __restrict range, std::size_t n, std::int32_t* __restrict pixel) {
   const float u0 = static_cast<float>(g.u0), inv_res_h = static_cast<float>(1 / g.res_h);
   const std::int32_t width = g.width;
   const float u_end = static_cast<float>(width) - 0.5f, width_f = static_cast<float>(width);
@@ -77,9 +73,7 @@ IILFM_AVX2_CLONES void ring_pixels_of_points(
     const std::int32_t row = row_of_ring[std::min(id, last_ring)];
     const bool in = (range[i] > 0) & (u >= -0.5f) & (u < u_end) & (col < width) &
                     (id <= last_ring) & (row >= 0);
-    const float du = u - static_cast<float>(col);
     pixel[i] = in ? row * row_stride + col : -1;
-    offset[i] = du * du;
   }
 }
 

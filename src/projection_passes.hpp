@@ -42,20 +42,18 @@ inline void spherical_coordinates(const PointView& cloud, float* azimuth, float*
   }
 }
 
-// Pass 2 for uniform rows: each point's pixel (row * row_stride + column, -1 outside the image)
-// and squared distance to the pixel centre. Branch-free, so it vectorises (like pass 1, 8 lanes
-// with AVX2). Returns the points outside.
+// Pass 2 for uniform rows: each point's pixel (row * row_stride + column, -1 outside the image).
+// Branch-free, so it vectorises (like pass 1, 8 lanes with AVX2). Returns the points outside.
 std::size_t pixels_of_points(const ImageGeometry& g, std::int32_t row_stride, const float* azimuth,
                              const float* elevation, const float* range, std::size_t n,
-                             std::int32_t* pixel, float* offset);
+                             std::int32_t* pixel);
 
 // Pass 2 for ring rows from the ring field (contiguous; SphericalProjector copies a strided one):
 // each point's pixel (row_of_ring[ring] * row_stride + column, -1 outside the image or on a ring
-// without a row) and squared column offset from the pixel centre. Branch-free, so it vectorises
-// (the row a gather); offsets of points outside are written too, and never read.
+// without a row). Branch-free, so it vectorises (the row a gather).
 void ring_pixels_of_points(const ImageGeometry& g, std::int32_t row_stride,
                            const std::int32_t* row_of_ring, std::size_t ring_ids,
                            const std::uint16_t* ring, const float* azimuth, const float* range,
-                           std::size_t n, std::int32_t* pixel, float* offset);
+                           std::size_t n, std::int32_t* pixel);
 
 }  // namespace iilfm::detail

@@ -32,11 +32,10 @@ void WindowProjector::accumulate(const PointView& points, std::uint64_t first_id
   elevation_.resize(n);
   range_.resize(n);
   pixel_.resize(n);
-  offset_.resize(n);
   detail::spherical_coordinates(points, azimuth_.data(), elevation_.data(), range_.data());
   const std::size_t outside =
       detail::pixels_of_points(geometry_, geometry_.width, azimuth_.data(), elevation_.data(),
-                               range_.data(), n, pixel_.data(), offset_.data());
+                               range_.data(), n, pixel_.data());
   points_outside_ = sign > 0 ? points_outside_ + outside : points_outside_ - outside;
   points_inside_ = sign > 0 ? points_inside_ + (n - outside) : points_inside_ - (n - outside);
   const StridedColumn<float> intensity = points.intensity;

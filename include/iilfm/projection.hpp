@@ -111,8 +111,11 @@ struct ProjectedImage {
   cv::Mat intensity;  // CV_32F mean (or nearest) intensity; 0 where unobserved
   cv::Mat range;      // CV_32F range in metres; 0 where unobserved
   cv::Mat mask;       // CV_8U 255 where observed, 0 where no point fell
-  cv::Mat index;      // CV_32S index of the point nearest to the pixel centre; -1 where unobserved
-  cv::Mat count;      // CV_32S number of points in the pixel
+  // CV_32S index of a point in the pixel, -1 where unobserved: its only point where count is 1
+  // (what lifting reads); with several, the last in the cloud's order (the nearest with
+  // CollisionPolicy::kNearest; WindowProjector gives -1 there).
+  cv::Mat index;
+  cv::Mat count;  // CV_32S number of points in the pixel
   // Ring rows whose samples lie off the column grid (a spinning LiDAR's firing stagger, its
   // encoder's phase): CV_32F, where each single-point pixel's sample lies, in columns right of its
   // centre (0 for other pixels). Empty when every ring row lies within 0.05 columns of the grid,
@@ -156,12 +159,8 @@ class SphericalProjector {
   // two), so a scattered point order (the Livox rosette) costs one cache miss per point.
   struct PixelAccumulator {
     float range_sum, intensity_sum;
-    std::int32_t index;  // the point nearest to the pixel centre so far
-    // Low 24 bits: points in the pixel (saturates at 16.7 million); high 8: the nearest point's
-    // squared distance to the centre, in 1/510 pixel^2. One plain word, not bit-fields, so the
-    // loop that turns accumulators into images vectorises.
-    std::uint32_t count_offset;
-    static constexpr std::uint32_t kCountMask = (1u << 24) - 1;
+    std::int32_t index;   // the last point binned (with the nearest policy: the nearest one)
+    std::uint32_t count;  // points in the pixel
   };
   static_assert(sizeof(PixelAccumulator) == 16, "four accumulators per cache line");
 
@@ -177,7 +176,7 @@ class SphericalProjector {
                            std::uint8_t* mask, std::int32_t* index, std::int32_t* count);
 
   ProjectionOptions options_;
-  std::vector<float> azimuth_, elevation_, range_, offset_;
+  std::vector<float> azimuth_, elevation_, range_;
   // Each point's accumulator (row * accumulator_row_stride + column), -1 when not in the image.
   std::vector<std::int32_t> pixel_;
   std::vector<std::uint16_t> ring_copy_;  // a strided ring field, made contiguous for pass 2

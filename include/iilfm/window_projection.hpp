@@ -44,7 +44,7 @@ class WindowProjector {
   ProjectionOptions options_;
   ImageGeometry geometry_;
   std::vector<PixelSums, detail::HugePageAllocator<PixelSums>> sums_;  // scattered: huge pages
-  std::vector<float> azimuth_, elevation_, range_, offset_;
+  std::vector<float> azimuth_, elevation_, range_;
   std::vector<std::int32_t> pixel_, touched_;
   const FrameWindow* window_seen_ = nullptr;  // the window the sums follow
   std::uint64_t pushes_seen_ = 0, stamp_ = 0;
