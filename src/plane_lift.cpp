@@ -511,8 +511,16 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
   detail::keep_labelled(points, label, marker_label, marker_label, marker);
   if (marker.size() < options.min_points) return Plane{};
   double band = 0;
-  Plane plane = robust_plane(marker, options, &band);
+  Plane plane = robust_plane(marker, options, &band, Uncertainty::kNotWanted);
   if (!plane.ok) return plane;
+  // Its uncertainty (the jackknife's sums over its points) only where it is used: a plane
+  // returned without a surround, and a surround off it judged against its tilt.
+  bool with_uncertainty = false;
+  const auto own_plane = [&]() -> const Plane& {
+    if (!with_uncertainty) add_plane_uncertainty(marker, plane);
+    with_uncertainty = true;
+    return plane;
+  };
 
   // A printed sheet is flush with what it hangs on: when the surround is coplanar with the marker,
   // its points pin the normal down far better (more points, longer lever). Largest ring first;
@@ -545,7 +553,8 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
       // wide fit towards the marker's tilt (measured: twice the tilt error of an untruncated fit).
       ring_band = std::max(band, 4 * 1.4826 * median_of(offsets));
     } else if (ring_holds_the_marker(points, label, first_label, last_label, offsets.size(),
-                                     marker_label, plane, options, offsets_from_ring, ring_band)) {
+                                     marker_label, own_plane(), options, offsets_from_ring,
+                                     ring_band)) {
       ring_offsets = offsets_from_ring.data();
     } else {
       continue;
@@ -576,7 +585,7 @@ Plane fit_marker_plane(const std::vector<Vec2>& polygon_px, const ProjectedImage
     wide.centre = centre / n_marker;
     return wide;
   }
-  return plane;
+  return own_plane();
 }
 
 LiftedCorner lift_on_plane(const Vec2& keypoint_px, const ProjectedImage& image,
