@@ -446,7 +446,9 @@ void register_pipeline(py::module_& m) {
           "its centre (a spinning LiDAR's rings fire off the column grid); 0 for other pixels. "
           "None when every ring lies on the grid, and for uniform rows")
       .def_property_readonly("index_image", &index_image,
-                             "(H, W) int32 row of the input point of each pixel, -1 where none")
+                             "(H, W) int32 row of an input point in each pixel, -1 where none: "
+                             "its only point; where several fell, the last of them (the nearest "
+                             "with collision='nearest'; -1 in a sliding window)")
       .def_property_readonly(
           "gray_image",
           [](py::object self) {
