@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -68,20 +69,24 @@ void TaskThreads::let_go_if_forked() {
   static_cast<void>(state_.release());
 }
 
-void TaskThreads::start_helpers() {
-  state_ = std::make_unique<State>();
-  owner_ = getpid();
+void TaskThreads::start_helpers(std::size_t wanted) {
+  if (!state_) {
+    state_ = std::make_unique<State>();
+    owner_ = getpid();
+  }
   State* const state = state_.get();
+  const auto most = std::min(wanted, static_cast<std::size_t>(helpers_));
   try {
-    for (int k = 0; k < helpers_; ++k) state->threads.emplace_back([state] { state->work(); });
+    while (state->threads.size() < most) state->threads.emplace_back([state] { state->work(); });
   } catch (const std::system_error&) {  // fewer helpers (or none): the caller does the rest
+    helpers_ = static_cast<int>(state->threads.size());
   }
 }
 
 void TaskThreads::run(std::size_t count, const std::function<void(std::size_t)>& task) {
   if (count == 0) return;
   let_go_if_forked();
-  if (!state_) start_helpers();
+  start_helpers(count - 1);
   State& s = *state_;
   std::unique_lock<std::mutex> lock(s.mutex);
   s.task = &task;
@@ -93,6 +98,19 @@ void TaskThreads::run(std::size_t count, const std::function<void(std::size_t)>&
   s.take_tasks(lock);
   s.done.wait(lock, [&] { return s.finished == s.count; });
   s.task = nullptr;
+}
+
+bool TaskThreads::try_run(std::size_t count, const std::function<void(std::size_t)>& task) {
+  if (running_.exchange(true, std::memory_order_acquire)) return false;
+  run(count, task);
+  running_.store(false, std::memory_order_release);
+  return true;
+}
+
+TaskThreads& part_threads() {
+  static TaskThreads threads(
+      std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1));
+  return threads;
 }
 
 }  // namespace iilfm::detail

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "../../src/parallel_parts.hpp"
 #include "../../src/task_threads.hpp"
 
 namespace iilfm::detail {
@@ -46,6 +47,67 @@ TEST(TaskThreads, TasksShareTheHelpersAndTheCallersThread) {
     ids.insert(id_of.begin(), id_of.end());
     EXPECT_EQ(ids.size(), 2u) << "run " << run;
   }
+}
+
+TEST(TaskThreads, TryRunRefusesWhileARunIsUnderWayAndRunsAfterIt) {
+  TaskThreads threads(1);
+  std::vector<int> times(3, 0);
+  std::atomic<int> refused{0};
+  const bool ran = threads.try_run(3, [&](std::size_t i) {
+    ++times[i];
+    if (!threads.try_run(1, [&](std::size_t) { ++times[i]; })) ++refused;  // nested: refused
+  });
+  EXPECT_TRUE(ran);
+  EXPECT_EQ(refused, 3);
+  for (int n : times) EXPECT_EQ(n, 1);
+  EXPECT_TRUE(threads.try_run(3, [&](std::size_t i) { ++times[i]; }));
+  for (int n : times) EXPECT_EQ(n, 2);
+}
+
+// in_parts (src/parallel_parts.hpp) on the process's part threads: every part once, also when
+// parts call it again (the part threads are busy: new threads then) and when two callers share
+// them.
+TEST(InParts, EveryPartRunsOnceNestedAndFromTwoCallers) {
+  const auto check = [](int seed) {
+    bool ok = true;
+    std::atomic<int> wrong_count{0};
+    for (int round = 0; round < 100; ++round) {
+      const int parts = 2 + (round + seed) % 5;
+      std::vector<std::atomic<int>> outer(static_cast<std::size_t>(parts));
+      std::vector<std::atomic<int>> inner(static_cast<std::size_t>(parts * 3));
+      in_parts(parts, [&](int k, int count) {
+        ++outer[static_cast<std::size_t>(k)];
+        if (count != parts) ++wrong_count;
+        in_parts(3, [&](int j, int) { ++inner[static_cast<std::size_t>(k * 3 + j)]; });
+      });
+      for (const auto& n : outer) ok &= n == 1;
+      for (const auto& n : inner) ok &= n == 1;
+    }
+    return ok && wrong_count == 0;
+  };
+  bool first = false, second = false;
+  std::thread other([&] { first = check(0); });
+  second = check(1);
+  other.join();
+  EXPECT_TRUE(first);
+  EXPECT_TRUE(second);
+}
+
+TEST(TaskThreads, HelpersAreAddedWhenARunHasMoreTasks) {
+  // Four tasks that each wait for all four to start, after runs that needed fewer helpers.
+  TaskThreads threads(3);
+  threads.run(1, [](std::size_t) {});
+  threads.run(2, [](std::size_t) {});
+  std::atomic<int> started{0};
+  std::vector<std::thread::id> id_of(4);
+  threads.run(4, [&](std::size_t i) {
+    id_of[i] = std::this_thread::get_id();
+    ++started;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (started < 4 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+  });
+  EXPECT_EQ(started, 4);
+  EXPECT_EQ(std::set<std::thread::id>(id_of.begin(), id_of.end()).size(), 4u);
 }
 
 // Exit status of `child`, or -1 when it has not ended within ten seconds (then it is killed).
