@@ -34,11 +34,11 @@ inline std::pair<std::size_t, std::size_t> part_range(std::size_t items, int k, 
   return {share(k), share(k + 1)};
 }
 
-// Calls part(k, parts) for k = 0 .. parts - 1, on this thread and the process's part threads
-// (part_threads), which are kept from call to call: a new thread's start and its thread-local
-// scratch cost about 45 us a call here. While they serve another call (another caller's, or this
-// one's from inside a part), on this thread and new ones (on this thread too when the system
-// refuses a new one). Which part runs on which thread varies: a part must not rely on the caller's
+// Calls part(k, parts) for k = 0 .. parts - 1 on this thread and the process's part threads
+// (part_threads), kept from call to call: starting a thread and its thread-local scratch anew
+// cost about 45 us a call here, waking a kept one 6-9 us. While those serve another call (another
+// caller's, or one made inside a part), on this thread and new ones (this thread alone when the
+// system refuses them). Any part may run on any thread: none may rely on the caller's
 // thread-locals. `part` must not throw.
 template <typename Part>
 void in_parts(int parts, const Part& part) {

@@ -1,4 +1,5 @@
-// Threads kept for a caller's repeated lists of tasks (a pipeline's detectors, frame after frame):
+// Threads kept for a caller's repeated lists of tasks (a pipeline's detectors frame after frame,
+// the parallel passes of in_parts):
 // started once, so a frame pays neither a thread's start nor its buffers' first allocation (the
 // thread-local scratch of contour tracing, reused from the frame before).
 #pragma once
@@ -14,8 +15,8 @@ namespace iilfm::detail {
 
 class TaskThreads {
  public:
-  // Up to `helpers` threads besides the caller's, started as runs need them (a run of n tasks
-  // n - 1).
+  // Up to `helpers` threads besides the caller's, started as runs need them (n - 1 for a run of
+  // n tasks).
   explicit TaskThreads(int helpers);
   ~TaskThreads();
   TaskThreads(const TaskThreads&) = delete;
