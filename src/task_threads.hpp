@@ -1,7 +1,7 @@
 // Threads kept for a caller's repeated lists of tasks (a pipeline's detectors frame after frame,
-// the parallel passes of in_parts):
-// started once, so a frame pays neither a thread's start nor its buffers' first allocation (the
-// thread-local scratch of contour tracing, reused from the frame before).
+// the parallel passes of in_parts): started once, so a frame pays neither a thread's start nor
+// its buffers' first allocation (the thread-local scratch of contour tracing, reused from the
+// frame before).
 #pragma once
 
 #include <sys/types.h>
