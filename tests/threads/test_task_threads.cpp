@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -108,6 +109,33 @@ TEST(TaskThreads, HelpersAreAddedWhenARunHasMoreTasks) {
   });
   EXPECT_EQ(started, 4);
   EXPECT_EQ(std::set<std::thread::id>(id_of.begin(), id_of.end()).size(), 4u);
+}
+
+TEST(InParts, RunsOnKeptThreadsCallAfterCall) {
+  // Two parts that each wait for the other to start run on two threads at once: the caller's and
+  // a part thread, kept from call to call rather than started anew. A new thread may reuse an
+  // old one's id, but its thread-locals start afresh: a kept thread's count of the parts it ran
+  // goes on. With at most 63 part threads, 100 calls put a second part on one of them.
+  static thread_local int parts_run_here = 0;
+  int most_run_before = 0;  // by the part thread, before a call's part
+  for (int call = 0; call < 100; ++call) {
+    std::atomic<int> started{0};
+    std::vector<int> count_of(2);
+    std::vector<std::thread::id> id_of(2);
+    in_parts(2, [&](int k, int) {
+      const auto part = static_cast<std::size_t>(k);
+      id_of[part] = std::this_thread::get_id();
+      count_of[part] = parts_run_here++;
+      ++started;
+      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+      while (started < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+    });
+    ASSERT_EQ(started, 2);
+    for (std::size_t part = 0; part < 2; ++part)
+      if (id_of[part] != std::this_thread::get_id())
+        most_run_before = std::max(most_run_before, count_of[part]);
+  }
+  EXPECT_GT(most_run_before, 0);
 }
 
 // Exit status of `child`, or -1 when it has not ended within ten seconds (then it is killed).
