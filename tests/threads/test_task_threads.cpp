@@ -18,6 +18,14 @@
 namespace iilfm::detail {
 namespace {
 
+// Counts this task as started, then waits (ten seconds at most) until `all` have: tasks that can
+// only finish when they run at once.
+void start_and_wait_for_all(std::atomic<int>& started, int all) {
+  ++started;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (started < all && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+}
+
 TEST(TaskThreads, EveryTaskRunsOnceInEveryRun) {
   for (const int helpers : {0, 1, 3}) {
     TaskThreads threads(helpers);
@@ -40,9 +48,7 @@ TEST(TaskThreads, TasksShareTheHelpersAndTheCallersThread) {
     std::vector<std::thread::id> id_of(2);
     threads.run(2, [&](std::size_t i) {
       id_of[i] = std::this_thread::get_id();
-      ++started;
-      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-      while (started < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+      start_and_wait_for_all(started, 2);
     });
     EXPECT_EQ(started, 2);
     ids.insert(id_of.begin(), id_of.end());
@@ -103,9 +109,7 @@ TEST(TaskThreads, HelpersAreAddedWhenARunHasMoreTasks) {
   std::vector<std::thread::id> id_of(4);
   threads.run(4, [&](std::size_t i) {
     id_of[i] = std::this_thread::get_id();
-    ++started;
-    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while (started < 4 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+    start_and_wait_for_all(started, 4);
   });
   EXPECT_EQ(started, 4);
   EXPECT_EQ(std::set<std::thread::id>(id_of.begin(), id_of.end()).size(), 4u);
@@ -126,9 +130,7 @@ TEST(InParts, RunsOnKeptThreadsCallAfterCall) {
       const auto part = static_cast<std::size_t>(k);
       id_of[part] = std::this_thread::get_id();
       count_of[part] = parts_run_here++;
-      ++started;
-      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-      while (started < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+      start_and_wait_for_all(started, 2);
     });
     ASSERT_EQ(started, 2);
     for (std::size_t part = 0; part < 2; ++part)
